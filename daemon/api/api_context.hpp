@@ -1,0 +1,40 @@
+#pragma once
+// What the API reaches: the loop's channels, the stream hub, the config, and its own
+// counters. Everything here is either immutable after setup or thread-safe.
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "auth.hpp"
+#include "loop_channels.hpp"
+#include "rig/config/rigd_config.hpp"
+#include "stream_hub.hpp"
+
+namespace rig::api {
+
+struct ApiCounters {
+  std::atomic<std::uint64_t> http_requests{0};
+  std::atomic<std::uint64_t> refused_unauthorized{0};
+  std::atomic<std::uint64_t> refused_invalid{0};
+  std::atomic<std::int64_t> ws_clients{0};
+  std::atomic<std::uint64_t> ws_messages_sent{0};
+  std::atomic<std::uint64_t> ws_messages_dropped{0};  // slow clients: oldest batches dropped
+  std::atomic<std::int64_t> open_connections{0};
+};
+
+class LabService;  // model lab requests (non-RT worker), optional
+
+struct ApiContext {
+  rt::LoopChannels* channels = nullptr;
+  service::StreamHub* hub = nullptr;
+  const config::RigdConfig* config = nullptr;
+  LabService* lab = nullptr;
+  bool realtime = false;
+  std::string version;
+  ApiAuth auth{std::nullopt};
+  ApiCounters counters;
+  std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
+};
+
+}  // namespace rig::api

@@ -1,0 +1,285 @@
+#include "api_router.hpp"
+
+#include <boost/asio/post.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <regex>
+#include <sstream>
+
+#include "lab_service.hpp"
+#include "run_csv.hpp"
+#include "status_view.hpp"
+
+namespace rig::api {
+namespace {
+
+std::string path_of(const Request& request) {
+  const std::string target(request.target());
+  return target.substr(0, target.find('?'));
+}
+
+bool is_loop_command(const std::string& name, rt::CommandKind& kind) {
+  static const std::pair<const char*, rt::CommandKind> kCommands[] = {
+      {"home", rt::CommandKind::kHome}, {"tare", rt::CommandKind::kTare}, {"stop", rt::CommandKind::kStop},
+      {"estop", rt::CommandKind::kEStop}, {"reset", rt::CommandKind::kReset}, {"start", rt::CommandKind::kStart}};
+  for (const auto& [n, k] : kCommands) {
+    if (name == n) {
+      kind = k;
+      return true;
+    }
+  }
+  return false;
+}
+
+nlohmann::json parse_body(const Request& request) {
+  if (request.body().empty()) return nlohmann::json::object();
+  return nlohmann::json::parse(request.body());  // throws on bad JSON
+}
+
+}  // namespace
+
+Response make_response(const Request& request, http::status status, std::string body, const std::string& content_type) {
+  Response response{status, request.version()};
+  response.set(http::field::server, "rigd");
+  response.set(http::field::content_type, content_type);
+  response.set(http::field::cache_control, "no-store");
+  response.keep_alive(request.keep_alive());
+  response.body() = std::move(body);
+  response.prepare_payload();
+  return response;
+}
+
+Response error_response(const Request& request, http::status status, const std::string& error, const std::string& field) {
+  proto::ErrorReply reply;
+  reply.error = error;
+  if (!field.empty()) reply.field = field;
+  return make_response(request, status, nlohmann::json(reply).dump());
+}
+
+ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context) : io_(&io), context_(&context) {}
+
+archive::Archive& ApiRouter::archive() {
+  if (!archive_) archive_ = std::make_unique<archive::Archive>(context_->config->archive.path);
+  return *archive_;
+}
+
+void ApiRouter::handle(const Request& request, Responder respond) {
+  context_->counters.http_requests.fetch_add(1);
+  const std::string path = path_of(request);
+  const bool get = request.method() == http::verb::get;
+  const bool post = request.method() == http::verb::post;
+  const bool safe_command = post && (path == "/api/stop" || path == "/api/estop");
+  const bool static_file = get && path.rfind("/api/", 0) != 0 && path != "/metrics";
+  if (!static_file && !safe_command && !context_->auth.authorized(request)) {
+    context_->counters.refused_unauthorized.fetch_add(1);
+    spdlog::warn("api: refused {} {} without a valid token", std::string(request.method_string()), path);
+    return respond(error_response(request, http::status::unauthorized, "a valid API token is required"));
+  }
+  try {
+    rt::CommandKind kind{};
+    static const std::regex kRunPath(R"(^/api/runs/(\d+)(/csv|/samples)?$)");
+    std::smatch m;
+    if (get && path == "/api/status") return respond(make_response(request, http::status::ok, status_json(*context_)));
+    if (get && path == "/metrics") return respond(make_response(request, http::status::ok, prometheus_metrics(*context_), "text/plain; version=0.0.4"));
+    if (get && path == "/api/runs") return get_runs(request, respond);
+    if (get && std::regex_match(path, m, kRunPath)) return get_run(request, std::stoll(m[1].str()), m[2].str(), respond);
+    if (path == "/api/model" && (get || post)) return model(request, respond);
+    if (post && path.rfind("/api/lab/", 0) == 0) return lab(request, path.substr(9), respond);
+    if (post && (path == "/api/run" || path == "/api/arm")) return post_run(request, path == "/api/run", respond);
+    if (post && path.rfind("/api/", 0) == 0 && is_loop_command(path.substr(5), kind)) return post_command(request, kind, respond);
+    if (get && path == "/proto/messages.json") return respond(make_response(request, http::status::ok, proto::messages_schema_json()));
+    if (static_file) return respond(serve_static(request, context_->config->api.web_root));
+    return respond(error_response(request, http::status::not_found, "no such endpoint: " + std::string(request.method_string()) + " " + path));
+  } catch (const proto::ProtoError& e) {
+    context_->counters.refused_invalid.fetch_add(1);
+    return respond(error_response(request, http::status::bad_request, e.what(), e.field()));
+  } catch (const nlohmann::json::exception& e) {
+    context_->counters.refused_invalid.fetch_add(1);
+    return respond(error_response(request, http::status::bad_request, std::string("request body is not valid JSON: ") + e.what()));
+  } catch (const std::exception& e) {
+    spdlog::error("api: {} {}: {}", std::string(request.method_string()), path, e.what());
+    return respond(error_response(request, http::status::internal_server_error, e.what()));
+  }
+}
+
+namespace {
+
+// Waits for the RT loop's answer to one command without blocking the I/O thread: polls
+// the status every millisecond on a timer, for at most two seconds.
+class CommandWait : public std::enable_shared_from_this<CommandWait> {
+ public:
+  CommandWait(boost::asio::io_context& io, ApiContext& context, Request request, rt::Command command,
+              Responder respond, std::function<void(rt::CommandResult)> on_answer)
+      : timer_(io), context_(&context), request_(std::move(request)), command_(command),
+        respond_(std::move(respond)), on_answer_(std::move(on_answer)),
+        deadline_(std::chrono::steady_clock::now() + std::chrono::seconds(2)) {}
+
+  void check() {
+    const rt::StatusSnapshot st = context_->channels->status.read();
+    if (st.last_command_id == command_.id) return answer(st);
+    if (std::chrono::steady_clock::now() > deadline_) {
+      return respond_(error_response(request_, http::status::gateway_timeout, "the RT loop did not answer the command"));
+    }
+    timer_.expires_after(std::chrono::milliseconds(1));
+    timer_.async_wait([self = shared_from_this()](const boost::system::error_code& ec) {
+      if (!ec) self->check();
+    });
+  }
+
+ private:
+  void answer(const rt::StatusSnapshot& st) {
+    if (on_answer_) on_answer_(st.last_command_result);
+    proto::CommandReply reply;
+    reply.ok = st.last_command_result == rt::CommandResult::kAccepted;
+    reply.command = std::string(rt::to_string(command_.kind));
+    reply.result = std::string(rt::to_string(st.last_command_result));
+    reply.state = std::string(rt::to_string(st.state));
+    if (command_.params.run_id != 0) reply.run_id = command_.params.run_id;
+    respond_(make_response(request_, reply.ok ? http::status::ok : http::status::conflict, nlohmann::json(reply).dump()));
+  }
+
+  boost::asio::steady_timer timer_;
+  ApiContext* context_;
+  Request request_;
+  rt::Command command_;
+  Responder respond_;
+  std::function<void(rt::CommandResult)> on_answer_;
+  std::chrono::steady_clock::time_point deadline_;
+};
+
+}  // namespace
+
+void ApiRouter::send_command(const Request& request, const rt::Command& command, Responder respond,
+                             std::function<void(rt::CommandResult)> on_answer) {
+  if (!context_->channels->commands.push(command)) {
+    return respond(error_response(request, http::status::service_unavailable, "command queue full: try again"));
+  }
+  std::make_shared<CommandWait>(*io_, *context_, request, command, std::move(respond), std::move(on_answer))->check();
+}
+
+void ApiRouter::post_command(const Request& request, rt::CommandKind kind, Responder respond) {
+  rt::Command command;
+  command.kind = kind;
+  command.id = next_command_id_++;
+  if (kind == rt::CommandKind::kStop || kind == rt::CommandKind::kEStop) spdlog::warn("api: {} requested", rt::to_string(kind));
+  send_command(request, command, std::move(respond));
+}
+
+void ApiRouter::post_run(const Request& request, bool start, Responder respond) {
+  const proto::RunRequest run = parse_body(request).get<proto::RunRequest>();
+  archive::NewRun row;
+  row.eye_id = run.eye_id;
+  row.iop_mmHg = run.iop_mmHg;
+  row.velocity_mm_s = run.velocity_mm_s;
+  row.depth_mm = run.depth_mm;
+  row.hold_s = run.hold_s.value_or(0.0);
+  row.post_mortem_h = run.post_mortem_h;
+  row.operator_name = run.operator_.value_or("");
+  row.notes = run.notes.value_or("");
+  if (run.meta) row.meta.assign(run.meta->begin(), run.meta->end());
+  row.config_hash = context_->config->hash;
+  row.software_version = context_->version;
+  row.surface_mm = context_->config->loop.motion.surface_mm;
+  row.rate_hz = context_->config->loop.rate_hz;
+  const std::int64_t run_id = archive().create_run(row);
+  rt::Command command;
+  command.kind = rt::CommandKind::kArm;
+  command.id = next_command_id_++;
+  command.params = {run.iop_mmHg, run.velocity_mm_s, run.depth_mm, row.hold_s, start && run.start.value_or(true), run_id};
+  send_command(request, command, std::move(respond), [this, run_id](rt::CommandResult result) {
+    if (result != rt::CommandResult::kAccepted) archive().finish_run(run_id, "cancelled", std::string(rt::to_string(result)));
+  });
+}
+
+void ApiRouter::get_runs(const Request& request, Responder respond) {
+  proto::RunList list;
+  for (const auto& row : archive().list_runs()) {
+    proto::RunSummary s;
+    s.run_id = row.id;
+    s.eye_id = row.eye_id;
+    s.iop_mmHg = row.iop_mmHg;
+    s.velocity_mm_s = row.velocity_mm_s;
+    s.depth_mm = row.depth_mm;
+    s.started_at = row.started_at;
+    if (!row.ended_at.empty()) s.ended_at = row.ended_at;
+    s.outcome = row.outcome;
+    if (!row.reason.empty()) s.reason = row.reason;
+    s.samples = row.samples;
+    s.source = row.source;
+    list.runs.push_back(std::move(s));
+  }
+  respond(make_response(request, http::status::ok, nlohmann::json(list).dump()));
+}
+
+void ApiRouter::get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond) {
+  const auto row = archive().find_run(run_id);
+  if (!row) return respond(error_response(request, http::status::not_found, "no run " + std::to_string(run_id)));
+  if (what == "/csv") {
+    std::ostringstream csv;
+    model::write_run_csv(archive().load_run(run_id), csv);
+    Response response = make_response(request, http::status::ok, csv.str(), "text/csv");
+    response.set(http::field::content_disposition, "attachment; filename=\"run-" + std::to_string(run_id) + ".csv\"");
+    response.prepare_payload();
+    return respond(std::move(response));
+  }
+  if (what == "/samples") {  // the page's replay of an archived run, decimated to <= 5000 points
+    const model::RunData run = archive().load_run(run_id);
+    const std::size_t step = std::max<std::size_t>(1, run.size() / 5000);
+    nlohmann::json j = {{"run_id", run_id}, {"t_s", nlohmann::json::array()}, {"x_mm", nlohmann::json::array()}, {"force_N", nlohmann::json::array()}};
+    for (std::size_t i = 0; i < run.size(); i += step) {
+      j["t_s"].push_back(run.t_s[i]);
+      j["x_mm"].push_back(run.x_mm[i]);
+      j["force_N"].push_back(run.force_N[i]);
+    }
+    return respond(make_response(request, http::status::ok, j.dump()));
+  }
+  proto::RunDetail detail;
+  detail.run.run_id = row->id;
+  detail.run.eye_id = row->eye_id;
+  detail.run.iop_mmHg = row->iop_mmHg;
+  detail.run.velocity_mm_s = row->velocity_mm_s;
+  detail.run.depth_mm = row->depth_mm;
+  detail.run.started_at = row->started_at;
+  if (!row->ended_at.empty()) detail.run.ended_at = row->ended_at;
+  detail.run.outcome = row->outcome;
+  if (!row->reason.empty()) detail.run.reason = row->reason;
+  detail.run.samples = row->samples;
+  detail.run.source = row->source;
+  for (const auto& [k, v] : archive().run_meta(run_id)) detail.meta[k] = v;
+  for (const auto& e : archive().run_events(run_id)) detail.events.push_back({e.t_s, e.kind, e.message});
+  respond(make_response(request, http::status::ok, nlohmann::json(detail).dump()));
+}
+
+void ApiRouter::model(const Request& request, Responder respond) {
+  if (request.method() == http::verb::post) {
+    const proto::ModelSelect select = parse_body(request).get<proto::ModelSelect>();
+    try {
+      auto loaded = std::make_shared<const model::ForceModel>(model::ForceModel::load(select.file));
+      context_->hub->set_model(std::move(loaded));
+      spdlog::info("api: live model is now {}", select.file);
+    } catch (const std::exception& e) {
+      return respond(error_response(request, http::status::unprocessable_entity, e.what(), "file"));
+    }
+  }
+  const double iop = context_->channels->status.read().params.iop_mmHg;
+  respond(make_response(request, http::status::ok, context_->hub->model_curve_json(iop)));
+}
+
+void ApiRouter::lab(const Request& request, const std::string& action, Responder respond) {
+  if (action != "compare" && action != "diagnose" && action != "fit") {
+    return respond(error_response(request, http::status::not_found, "no lab action '" + action + "'"));
+  }
+  if (context_->lab == nullptr) return respond(error_response(request, http::status::service_unavailable, "the model lab is not running"));
+  const proto::LabRequest lab_request = parse_body(request).get<proto::LabRequest>();
+  boost::asio::io_context* io = io_;
+  context_->lab->submit(action, lab_request, [io, request, respond](int status, std::string body) {
+    boost::asio::post(*io, [request, respond, status, body = std::move(body)]() mutable {
+      respond(make_response(request, static_cast<http::status>(status), std::move(body)));
+    });
+  });
+}
+
+}  // namespace rig::api

@@ -1,0 +1,64 @@
+#include "api_server.hpp"
+
+#include <boost/asio/post.hpp>
+#include <spdlog/spdlog.h>
+
+#include "sessions.hpp"
+
+namespace rig::api {
+
+ApiServer::ApiServer(ApiContext& context, const std::string& bind, int port)
+    : context_(&context), acceptor_(io_), router_(io_, context) {
+  const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(bind), static_cast<unsigned short>(port));
+  acceptor_.open(endpoint.protocol());
+  acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
+  acceptor_.bind(endpoint);
+  acceptor_.listen();
+  port_ = acceptor_.local_endpoint().port();
+}
+
+ApiServer::~ApiServer() { stop(); }
+
+void ApiServer::start() {
+  accept();
+  thread_ = std::thread([this] { io_.run(); });
+}
+
+void ApiServer::stop() {
+  if (!thread_.joinable()) return;
+  io_.stop();
+  thread_.join();
+}
+
+void ApiServer::accept() {
+  acceptor_.async_accept([this](boost::system::error_code ec, boost::asio::ip::tcp::socket socket) {
+    if (!ec) {
+      if (context_->counters.open_connections.load() + context_->counters.ws_clients.load() >= context_->config->api.max_clients) {
+        spdlog::warn("api: connection refused, {} clients already", context_->counters.open_connections.load());
+        socket.close();  // at the limit: refuse rather than starve the others
+      } else {
+        std::make_shared<HttpSession>(std::move(socket), *this)->run();
+      }
+    }
+    if (acceptor_.is_open()) accept();
+  });
+}
+
+void ApiServer::publish(std::shared_ptr<const std::string> message) {
+  boost::asio::post(io_, [this, message = std::move(message)] {
+    const auto clients = stream_clients_;  // a send may end a session
+    for (const auto& client : clients) client->send(message);
+  });
+}
+
+void ApiServer::add_stream_client(const std::shared_ptr<WsSession>& session) {
+  stream_clients_.insert(session);
+  context_->counters.ws_clients.store(static_cast<std::int64_t>(stream_clients_.size()));
+}
+
+void ApiServer::remove_stream_client(const std::shared_ptr<WsSession>& session) {
+  stream_clients_.erase(session);
+  context_->counters.ws_clients.store(static_cast<std::int64_t>(stream_clients_.size()));
+}
+
+}  // namespace rig::api

@@ -1,0 +1,99 @@
+#include "status_view.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <sstream>
+
+#include "recorder.hpp"
+#include "rig/proto/messages.hpp"
+
+namespace rig::api {
+
+std::string status_json(ApiContext& c) {
+  const rt::StatusSnapshot st = c.channels->status.read();
+  const auto jitter = c.channels->jitter.snapshot();
+  const rt::LoopCounters& n = c.channels->counters;
+  proto::Status s;
+  s.state = std::string(rt::to_string(st.state));
+  s.phase = std::string(rt::to_string(st.phase));
+  s.fault = st.fault == rt::FaultCode::kNone ? "none" : service::describe_fault(st.fault, st.fault_value);
+  s.fault_value = st.fault_value;
+  s.homed = st.homed;
+  s.tared = st.tared;
+  s.taring = st.taring;
+  s.position_mm = st.position_mm;
+  s.velocity_mm_s = st.velocity_mm_s;
+  s.force_N = st.force_N;
+  s.iop_mmHg = st.iop_mmHg;
+  s.iop_target_mmHg = st.iop_target_mmHg;
+  s.iop_settled = st.iop_settled;
+  s.motor_volts = st.motor_volts;
+  s.motor_enabled = st.motor_enabled;
+  s.pump_command = st.pump_command;
+  s.run_id = st.run_id;
+  s.interlocks = {st.home_limit, st.end_limit, st.estop_input, st.io_ok, st.consecutive_misses};
+  s.loop.rate_hz = c.config->loop.rate_hz;
+  s.loop.cycles = static_cast<std::int64_t>(n.cycles.load());
+  s.loop.overruns = static_cast<std::int64_t>(n.overruns.load());
+  s.loop.missed_cycles = static_cast<std::int64_t>(n.missed_cycles.load());
+  s.loop.io_misses = static_cast<std::int64_t>(n.io_misses.load());
+  s.loop.jitter_p50_us = jitter.percentile_us(0.5);
+  s.loop.jitter_p99_us = jitter.percentile_us(0.99);
+  s.loop.jitter_p999_us = jitter.percentile_us(0.999);
+  s.loop.jitter_max_us = static_cast<double>(jitter.max_ns) / 1000.0;
+  s.loop.realtime = c.realtime;
+  s.recorder_drops = static_cast<std::int64_t>(n.recorder_drops.load());
+  s.stream_drops = static_cast<std::int64_t>(n.stream_drops.load());
+  s.version = c.version;
+  s.config_hash = c.config->hash;
+  const auto model = c.hub->model();
+  s.model_file = model ? model->path : "";
+  s.surface_mm = c.config->loop.motion.surface_mm;
+  return nlohmann::json(s).dump();
+}
+
+std::string prometheus_metrics(ApiContext& c) {
+  const auto jitter = c.channels->jitter.snapshot();
+  const rt::LoopCounters& n = c.channels->counters;
+  const rt::StatusSnapshot st = c.channels->status.read();
+  std::ostringstream out;
+  auto counter = [&](const char* name, const char* help, double value) {
+    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " counter\n" << name << " " << value << "\n";
+  };
+  auto gauge = [&](const char* name, const char* help, double value) {
+    out << "# HELP " << name << " " << help << "\n# TYPE " << name << " gauge\n" << name << " " << value << "\n";
+  };
+  counter("rigd_loop_cycles_total", "RT loop cycles", static_cast<double>(n.cycles.load()));
+  counter("rigd_loop_overruns_total", "cycles that ended after the next deadline", static_cast<double>(n.overruns.load()));
+  counter("rigd_loop_missed_cycles_total", "deadlines skipped after overruns", static_cast<double>(n.missed_cycles.load()));
+  counter("rigd_daq_misses_total", "failed DAQ reads", static_cast<double>(n.io_misses.load()));
+  counter("rigd_recorder_drops_total", "samples the recorder could not take (faults the run)", static_cast<double>(n.recorder_drops.load()));
+  counter("rigd_stream_ring_drops_total", "samples dropped before the stream hub", static_cast<double>(n.stream_drops.load()));
+  counter("rigd_stream_messages_dropped_total", "WebSocket messages dropped for slow clients", static_cast<double>(c.counters.ws_messages_dropped.load()));
+  counter("rigd_stream_messages_sent_total", "WebSocket messages sent", static_cast<double>(c.counters.ws_messages_sent.load()));
+  counter("rigd_http_requests_total", "HTTP requests", static_cast<double>(c.counters.http_requests.load()));
+  counter("rigd_http_unauthorized_total", "requests refused for a missing or wrong token", static_cast<double>(c.counters.refused_unauthorized.load()));
+  gauge("rigd_stream_clients", "connected WebSocket clients", static_cast<double>(c.counters.ws_clients.load()));
+  gauge("rigd_force_newtons", "tared force", st.force_N);
+  gauge("rigd_position_mm", "carriage position", st.position_mm);
+  gauge("rigd_iop_mmhg", "intraocular pressure", st.iop_mmHg);
+  out << "# HELP rigd_state current run state\n# TYPE rigd_state gauge\n";
+  for (int i = 0; i <= static_cast<int>(rt::RunState::kEStop); ++i) {
+    const auto state = static_cast<rt::RunState>(i);
+    out << "rigd_state{state=\"" << rt::to_string(state) << "\"} " << (state == st.state ? 1 : 0) << "\n";
+  }
+  out << "# HELP rigd_loop_wakeup_latency_us wake-up latency of the RT loop\n# TYPE rigd_loop_wakeup_latency_us histogram\n";
+  std::uint64_t cumulative = 0;
+  for (int bin = 0; bin < rt::JitterHistogram::kBinCount - 1; ++bin) {
+    cumulative += jitter.counts[static_cast<std::size_t>(bin)];
+    if (jitter.counts[static_cast<std::size_t>(bin)] == 0 && bin % 8 != 7) continue;
+    out << "rigd_loop_wakeup_latency_us_bucket{le=\"" << rt::JitterHistogram::upper_edge_us(bin) << "\"} " << cumulative << "\n";
+  }
+  out << "rigd_loop_wakeup_latency_us_bucket{le=\"+Inf\"} " << jitter.total << "\n";
+  out << "rigd_loop_wakeup_latency_us_count " << jitter.total << "\n";
+  if (c.extra_metrics) out << c.extra_metrics();
+  return out.str();
+}
+
+}  // namespace rig::api

@@ -1,0 +1,88 @@
+#pragma once
+// The run archive: one SQLite file in WAL mode. Runs (metadata), their samples, events and
+// extra channels. The recorder commits every flush interval, so a crash of rigd loses at
+// most the last uncommitted batch; runs left "recording" are marked "interrupted" at the
+// next start and keep everything committed.
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "run_data.hpp"
+#include "run_types.hpp"
+#include "sqlite_handle.hpp"
+
+namespace rig::archive {
+
+struct NewRun {
+  std::string eye_id;
+  double iop_mmHg = 15.0;
+  double velocity_mm_s = 2.0;
+  double depth_mm = 14.0;
+  double hold_s = 0.0;
+  std::optional<double> post_mortem_h;
+  std::string operator_name;
+  std::string notes;
+  std::vector<std::pair<std::string, std::string>> meta;
+  std::string config_hash;
+  std::string software_version;
+  double surface_mm = 0.0;  // carriage position of first contact
+  double rate_hz = 1000.0;
+};
+
+struct RunRow {
+  std::int64_t id = 0;
+  std::string eye_id;
+  std::optional<double> iop_mmHg;
+  std::optional<double> velocity_mm_s;
+  std::optional<double> depth_mm;
+  std::string started_at;
+  std::string ended_at;
+  std::string outcome;  // armed, recording, completed, stopped, fault, cancelled, interrupted, imported
+  std::string reason;
+  std::string source;
+  std::int64_t samples = 0;
+};
+
+struct EventRow {
+  double t_s = 0.0;
+  std::string kind;
+  std::string message;
+};
+
+class Archive {
+ public:
+  explicit Archive(const std::string& path, bool read_only = false);
+
+  std::int64_t create_run(const NewRun& run);
+  void mark_started(std::int64_t run_id);
+  void finish_run(std::int64_t run_id, const std::string& outcome, const std::string& reason);
+  int recover_interrupted();
+
+  void begin();
+  void commit();
+  void append_sample(const rt::Sample& sample);
+  void add_event(std::int64_t run_id, double t_s, const std::string& kind, const std::string& message);
+
+  std::vector<RunRow> list_runs();
+  std::optional<RunRow> find_run(std::int64_t run_id);
+  std::vector<std::pair<std::string, std::string>> run_meta(std::int64_t run_id);
+  std::vector<EventRow> run_events(std::int64_t run_id);
+  // The run as run-CSV data: t from its first sample, x from first contact.
+  model::RunData load_run(std::int64_t run_id);
+  std::int64_t import_run(const model::RunData& run);
+  const std::string& path() const { return db_.path(); }
+
+ private:
+  void create_schema();
+  RunRow read_row(Statement& q);
+
+  Database db_;
+  std::optional<Statement> insert_sample_;
+  bool in_transaction_ = false;
+};
+
+std::string utc_now_iso8601();
+
+}  // namespace rig::archive

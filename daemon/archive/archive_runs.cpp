@@ -1,0 +1,87 @@
+// Archive <-> run-CSV data: loading a run for export and the model lab, importing files.
+#include <algorithm>
+
+#include "archive.hpp"
+
+namespace rig::archive {
+
+model::RunData Archive::load_run(std::int64_t run_id) {
+  model::RunData run;
+  run.source = "archive run " + std::to_string(run_id);
+  Statement info = db_.prepare("SELECT surface_mm, source FROM runs WHERE id = ?");
+  info.bind(1, run_id);
+  if (!info.step()) throw ArchiveError("archive " + path() + ": no run " + std::to_string(run_id));
+  const double surface_mm = info.real(0);
+  const bool from_rig = info.text(1) == "rig";
+  run.meta = run_meta(run_id);
+  Statement q = db_.prepare(
+      "SELECT t_s, position_mm, force_N, iop_mmHg, motor_V, velocity_mm_s FROM samples WHERE run_id = ? ORDER BY idx");
+  q.bind(1, run_id);
+  model::Channel iop{"iop_meas_mmHg", {}};
+  model::Channel motor{"motor_cmd_V", {}};
+  model::Channel velocity{"velocity_meas_mm_s", {}};
+  double t0 = 0.0;
+  while (q.step()) {
+    if (run.t_s.empty()) t0 = from_rig ? q.real(0) : 0.0;
+    run.t_s.push_back(q.real(0) - t0);
+    run.x_mm.push_back(q.real(1) - surface_mm);
+    run.force_N.push_back(q.real(2));
+    if (from_rig) {
+      iop.values.push_back(q.real(3));
+      motor.values.push_back(q.real(4));
+      velocity.values.push_back(q.real(5));
+    }
+  }
+  if (from_rig) {
+    run.channels = {std::move(iop), std::move(motor), std::move(velocity)};
+  } else {
+    Statement ch = db_.prepare("SELECT name, data FROM channels WHERE run_id = ? ORDER BY rowid");
+    ch.bind(1, run_id);
+    while (ch.step()) {
+      const auto data = ch.blob(1);
+      run.channels.push_back({ch.text(0), std::vector<double>(data.begin(), data.end())});
+    }
+  }
+  return run;
+}
+
+std::int64_t Archive::import_run(const model::RunData& run) {
+  begin();
+  try {
+    NewRun row;
+    row.eye_id = run.text("eye_id").value_or(run.source);
+    Statement q = db_.prepare(
+        "INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, operator, notes,"
+        " surface_mm, created_at, started_at, ended_at, outcome, source) VALUES (?,?,?,?,?,?,?,?,0,?,?,?,'imported',?)");
+    const std::string now = utc_now_iso8601();
+    q.bind(1, row.eye_id).bind(2, run.number("iop_mmHg")).bind(3, run.number("velocity_mm_s"));
+    q.bind(4, run.number("depth_mm")).bind(5, run.number("hold_s")).bind(6, run.number("post_mortem_h"));
+    q.bind(7, run.text("operator").value_or("")).bind(8, run.text("notes").value_or(""));
+    q.bind(9, now).bind(10, run.text("started_at").value_or(now)).bind(11, now).bind(12, run.source);
+    q.run();
+    const std::int64_t id = db_.last_insert_id();
+    const char* columns[] = {"eye_id", "iop_mmHg", "velocity_mm_s", "depth_mm", "hold_s", "post_mortem_h",
+                             "operator", "notes", "started_at", "outcome", "run_id", "source"};
+    Statement meta = db_.prepare("INSERT INTO run_meta (run_id, seq, key, value) VALUES (?,?,?,?)");
+    std::int64_t seq = 0;
+    for (const auto& [key, value] : run.meta) {
+      if (std::find(std::begin(columns), std::end(columns), key) != std::end(columns)) continue;
+      meta.bind(1, id).bind(2, seq++).bind(3, key).bind(4, value).run();
+    }
+    if (const auto original = run.text("run_id")) meta.bind(1, id).bind(2, seq++).bind(3, std::string("original_run_id")).bind(4, *original).run();
+    Statement sample = db_.prepare("INSERT INTO samples (run_id, idx, t_s, position_mm, force_N) VALUES (?,?,?,?,?)");
+    for (std::size_t i = 0; i < run.size(); ++i) {
+      sample.bind(1, id).bind(2, static_cast<std::int64_t>(i)).bind(3, run.t_s[i]).bind(4, run.x_mm[i]).bind(5, run.force_N[i]).run();
+    }
+    Statement channel = db_.prepare("INSERT INTO channels (run_id, name, data) VALUES (?,?,?)");
+    for (const auto& c : run.channels) channel.bind(1, id).bind(2, c.name).bind(3, std::span<const double>(c.values)).run();
+    commit();
+    return id;
+  } catch (...) {
+    db_.exec("ROLLBACK");
+    in_transaction_ = false;
+    throw;
+  }
+}
+
+}  // namespace rig::archive

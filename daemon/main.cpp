@@ -1,0 +1,76 @@
+// rigd: the rig's real-time daemon.
+#include <CLI/CLI.hpp>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/sinks/systemd_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <iostream>
+
+#include "rig/config/config_error.hpp"
+#include "rig/config/rigd_config.hpp"
+#include "rigd_app.hpp"
+
+namespace {
+
+void setup_logging() {
+  // Under systemd (JOURNAL_STREAM set) log straight to the journal with priorities.
+  if (std::getenv("JOURNAL_STREAM") != nullptr) {
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>("rigd", std::make_shared<spdlog::sinks::systemd_sink_st>()));
+  } else {
+    spdlog::set_default_logger(spdlog::stderr_color_mt("rigd"));
+    spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rigd: real-time daemon of the keratome incision rig"};
+  std::string config_path = "/etc/rigd/rigd.toml";
+  std::vector<std::string> overrides;
+  bool check_only = false;
+  bool print_keys = false;
+  app.add_option("--config", config_path, "TOML config file");
+  app.add_option("--set", overrides, "override a config key: key=value (TOML value)");
+  app.add_flag("--check-config", check_only, "validate the config and exit");
+  app.add_flag("--print-config-keys", print_keys, "list every config key with its range and unit");
+  CLI11_PARSE(app, argc, argv);
+  if (print_keys) {
+    std::cout << rig::config::describe_config_keys();
+    return 0;
+  }
+  setup_logging();
+  rig::config::RigdConfig config;
+  try {
+    config = rig::config::load_rigd_config(config_path, overrides);
+  } catch (const rig::config::ConfigError& e) {
+    std::cerr << "rigd: config error: " << e.what() << "\n";
+    return 2;
+  }
+  if (check_only) {
+    std::cout << "rigd: " << config_path << " is valid (hash " << config.hash << ")\n";
+    return 0;
+  }
+  // Signals are taken by sigwait below, never by the RT thread.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  rig::service::RigdApp rigd(config);
+  try {
+    rigd.start();
+  } catch (const std::exception& e) {
+    spdlog::critical("cannot start: {}", e.what());
+    std::cerr << "rigd: cannot start: " << e.what() << "\n";
+    return 1;
+  }
+  std::cout << "rigd: ready, API on http://" << config.api.bind << ":" << rigd.api_port() << std::endl;
+  int signal = 0;
+  sigwait(&signals, &signal);
+  spdlog::info("signal {}: shutting down", signal);
+  rigd.shutdown();
+  return 0;
+}

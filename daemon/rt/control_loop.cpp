@@ -1,0 +1,219 @@
+#include "control_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rig::rt {
+
+ControlLoop::ControlLoop(const LoopSettings& settings, const LoopHardware& hardware,
+                         LoopChannels& channels)
+    : s_(settings),
+      hw_(hardware),
+      ch_(&channels),
+      machine_(settings, *this),
+      interlocks_(settings),
+      controller_(settings.gains),
+      period_ns_(static_cast<std::int64_t>(std::llround(1e9 / settings.rate_hz))) {}
+
+void ControlLoop::emit(const Event& event) noexcept {
+  if (!ch_->recorder_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
+  if (!ch_->stream_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
+}
+
+void ControlLoop::start_timing() noexcept {
+  if (timing_started_) return;
+  timing_started_ = true;
+  start_ns_ = hw_.clock->now_ns();
+  previous_now_ns_ = start_ns_;
+  next_deadline_ns_ = start_ns_ + period_ns_;
+}
+
+void ControlLoop::wait_and_cycle() noexcept {
+  hw_.clock->sleep_until(next_deadline_ns_);
+  const std::int64_t now = hw_.clock->now_ns();
+  const std::int64_t latency = now - next_deadline_ns_;
+  ch_->jitter.record(latency);
+  cycle(now, latency);
+  next_deadline_ns_ += period_ns_;
+  const std::int64_t after = hw_.clock->now_ns();
+  const bool overran = after > next_deadline_ns_;
+  if (overran) {
+    ch_->counters.overruns.fetch_add(1, std::memory_order_relaxed);
+    // Skip the deadlines already lost instead of bursting to catch up.
+    const std::int64_t lost = (after - next_deadline_ns_) / period_ns_ + 1;
+    ch_->counters.missed_cycles.fetch_add(static_cast<std::uint64_t>(lost), std::memory_order_relaxed);
+    next_deadline_ns_ += lost * period_ns_;
+  }
+  overrun_storm_ = note_overrun(overran);
+}
+
+bool ControlLoop::note_overrun(bool overran) noexcept {
+  const auto wanted = static_cast<std::size_t>(std::clamp(s_.safety.overrun_storm_count, 1, 64));
+  if (overran) overrun_cycles_[overrun_count_++ % overrun_cycles_.size()] = cycle_;
+  if (overrun_count_ < wanted) return false;
+  const std::uint64_t oldest = overrun_cycles_[(overrun_count_ - wanted) % overrun_cycles_.size()];
+  return cycle_ - oldest < static_cast<std::uint64_t>(s_.safety.overrun_storm_window_cycles);
+}
+
+void ControlLoop::run(const std::atomic<bool>& stop) noexcept {
+  start_timing();
+  while (!stop.load(std::memory_order_relaxed)) wait_and_cycle();
+  shut_down();
+}
+
+void ControlLoop::run_for(std::int64_t duration_ns) noexcept {
+  start_timing();
+  const std::int64_t end = hw_.clock->now_ns() + duration_ns;
+  while (next_deadline_ns_ <= end) wait_and_cycle();
+}
+
+void ControlLoop::shut_down() noexcept {
+  drivers::DriveCommand off{};
+  write_outputs(off);
+}
+
+void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns) noexcept {
+  in.t_s = static_cast<double>(now_ns - start_ns_) * 1e-9;
+  in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, 10.0 * period_ns_ * 1e-9);
+  previous_now_ns_ = now_ns;
+  drivers::AnalogFrame frame;
+  drivers::DigitalInputs inputs;
+  const drivers::IoStatus analog = hw_.analog->read(frame);
+  const drivers::IoStatus digital = hw_.digital->read(inputs);
+  in.io_ok = analog == drivers::IoStatus::kOk && digital == drivers::IoStatus::kOk;
+  if (in.io_ok) {
+    last_frame_ = frame;
+    last_inputs_ = inputs;
+    consecutive_misses_ = 0;
+  } else {
+    ++consecutive_misses_;
+    ch_->counters.io_misses.fetch_add(1, std::memory_order_relaxed);
+  }
+  const Calibration& cal = s_.calibration;
+  in.consecutive_misses = consecutive_misses_;
+  in.inputs = last_inputs_;
+  in.force_volts = last_frame_.force_volts;
+  in.raw_force_N = cal.force.to_units(last_frame_.force_volts);
+  in.force_N = in.raw_force_N - machine_.tare_offset_N();
+  in.raw_position_mm = cal.position.to_units(last_frame_.position_volts);
+  in.position_mm = in.raw_position_mm + machine_.home_offset_mm();
+  in.iop_mmHg = cal.iop.to_units(last_frame_.iop_volts);
+  const double alpha = in.dt_s / (s_.gains.velocity_filter_s + in.dt_s);
+  if (cycle_ > 0) velocity_mm_s_ += alpha * ((in.position_mm - last_position_mm_) / in.dt_s - velocity_mm_s_);
+  last_position_mm_ = in.position_mm;
+  in.velocity_mm_s = velocity_mm_s_;
+  in.overrun_storm = overrun_storm_;
+}
+
+void ControlLoop::drain_commands(const CycleInput& in) noexcept {
+  Command command;
+  for (int i = 0; i < 4 && ch_->commands.pop(command); ++i) {  // bounded work per cycle
+    last_command_result_ = machine_.handle(command, in);
+    last_command_id_ = command.id;
+  }
+}
+
+drivers::DriveCommand ControlLoop::control(const CycleInput& in, const MotionRequest& motion) noexcept {
+  drivers::DriveCommand command;
+  command.pump_command = machine_.regulate_iop(in);
+  if (motion.reset_reference || motion.mode == MotionRequest::Mode::kOff) controller_.reset(in.position_mm);
+  switch (motion.mode) {
+    case MotionRequest::Mode::kOff: arrived_ = false; return command;
+    case MotionRequest::Mode::kHold:
+      command.motor_volts = controller_.track_velocity(0.0, in.position_mm, in.dt_s);
+      break;
+    case MotionRequest::Mode::kVelocity:
+      command.motor_volts = controller_.track_velocity(motion.velocity_mm_s, in.position_mm, in.dt_s);
+      break;
+    case MotionRequest::Mode::kMoveTo:
+      command.motor_volts = controller_.move_to(motion.target_mm, motion.speed_mm_s, in.position_mm, in.dt_s, arrived_);
+      break;
+  }
+  command.motor_enable = true;
+  return command;
+}
+
+void ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
+  drivers::DigitalOutputs outputs;
+  outputs.motor_enable = command.motor_enable;
+  hw_.digital->write(outputs);
+  hw_.drive->write(command);  // a failed write is seen as a miss on the next read
+}
+
+void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
+  CycleInput in;
+  read_inputs(in, now_ns);
+  drain_commands(in);
+  const InterlockVerdict verdict = interlocks_.check(in, machine_, controller_.following_error_mm());
+  if (verdict.code != FaultCode::kNone) machine_.fault(verdict.code, verdict.value, in);
+  constexpr double kAtRest_mm_s = 0.05;  // a move has ended when the carriage is also still
+  const MotionRequest motion = machine_.step(in, arrived_ && std::abs(in.velocity_mm_s) < kAtRest_mm_s);
+  drivers::DriveCommand command = control(in, motion);
+  write_outputs(command);
+  publish(in, command, static_cast<float>(latency_ns) * 1e-3F);
+  if (machine_.state() == RunState::kFault && command.motor_enable) {
+    command = drivers::DriveCommand{};  // publish() faulted the run: stop now, not next cycle
+    write_outputs(command);
+  }
+  publish_status(in, command);
+  ++cycle_;
+  ch_->counters.cycles.store(cycle_, std::memory_order_relaxed);
+}
+
+void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept {
+  Sample sample;
+  sample.cycle = cycle_;
+  sample.run_id = machine_.recording_run_id();
+  sample.t_s = in.t_s;
+  sample.position_mm = in.position_mm;
+  sample.force_N = in.force_N;
+  sample.iop_mmHg = in.iop_mmHg;
+  sample.velocity_mm_s = in.velocity_mm_s;
+  sample.motor_volts = command.motor_enable ? command.motor_volts : 0.0;
+  sample.pump_command = command.pump_command;
+  sample.wake_latency_us = latency_us;
+  sample.state = machine_.state();
+  sample.phase = machine_.phase();
+  sample.io_ok = in.io_ok ? 1 : 0;
+  if (sample.run_id != 0 && !ch_->recorder.try_push(sample)) {
+    ch_->counters.recorder_drops.fetch_add(1, std::memory_order_relaxed);
+    machine_.fault(FaultCode::kRecorderOverflow, static_cast<double>(ch_->recorder.capacity()), in);
+  }
+  if (!ch_->stream.try_push(sample)) ch_->counters.stream_drops.fetch_add(1, std::memory_order_relaxed);
+}
+
+void ControlLoop::publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept {
+  StatusSnapshot st;
+  st.cycle = cycle_;
+  st.t_s = in.t_s;
+  st.state = machine_.state();
+  st.phase = machine_.phase();
+  st.fault = machine_.fault_code();
+  st.fault_value = machine_.fault_value();
+  st.homed = machine_.homed();
+  st.tared = machine_.tared();
+  st.taring = machine_.taring();
+  st.io_ok = in.io_ok;
+  st.consecutive_misses = in.consecutive_misses;
+  st.position_mm = in.position_mm;
+  st.velocity_mm_s = in.velocity_mm_s;
+  st.force_N = in.force_N;
+  st.iop_mmHg = in.iop_mmHg;
+  st.iop_target_mmHg = machine_.iop().target_mmHg();
+  st.iop_regulating = machine_.iop().active();
+  st.iop_settled = machine_.iop().settled();
+  st.motor_volts = command.motor_volts;
+  st.motor_enabled = command.motor_enable;
+  st.pump_command = command.pump_command;
+  st.home_limit = in.inputs.home_limit;
+  st.end_limit = in.inputs.end_limit;
+  st.estop_input = in.inputs.estop;
+  st.run_id = machine_.recording_run_id();
+  st.params = machine_.params();
+  st.tare_offset_N = machine_.tare_offset_N();
+  st.last_command_id = last_command_id_;
+  st.last_command_result = last_command_result_;
+  ch_->status.publish(st);
+}
+
+}  // namespace rig::rt

@@ -1,0 +1,81 @@
+#pragma once
+// The real-time loop. Each cycle: read DAQ -> calibrate -> commands -> interlocks -> state
+// machine -> velocity and IOP control -> write DAQ -> publish. It reaches the hardware
+// only through the narrow driver interfaces, and the rest of rigd only through
+// LoopChannels. No allocation, no blocking, no I/O beyond the drivers, no logging.
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+#include "cycle_types.hpp"
+#include "interlocks.hpp"
+#include "loop_channels.hpp"
+#include "loop_settings.hpp"
+#include "rig/drivers/actuator_drive.hpp"
+#include "rig/drivers/analog_input.hpp"
+#include "rig/drivers/digital_io.hpp"
+#include "rig/drivers/loop_clock.hpp"
+#include "run_state_machine.hpp"
+#include "velocity_controller.hpp"
+
+namespace rig::rt {
+
+struct LoopHardware {
+  drivers::AnalogInput* analog = nullptr;
+  drivers::DigitalIo* digital = nullptr;
+  drivers::ActuatorDrive* drive = nullptr;
+  drivers::LoopClock* clock = nullptr;
+};
+
+class ControlLoop final : public EventSink {
+ public:
+  ControlLoop(const LoopSettings& settings, const LoopHardware& hardware, LoopChannels& channels);
+
+  // RT thread body: runs on absolute deadlines until `stop` is set, then leaves the motor off.
+  void run(const std::atomic<bool>& stop) noexcept;
+  // Runs for a span of the clock's time (tests with a virtual clock) [ns].
+  void run_for(std::int64_t duration_ns) noexcept;
+
+  void emit(const Event& event) noexcept override;
+  const RunStateMachine& machine() const noexcept { return machine_; }
+  std::int64_t period_ns() const noexcept { return period_ns_; }
+
+ private:
+  void start_timing() noexcept;
+  void wait_and_cycle() noexcept;
+  void cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept;
+  void read_inputs(CycleInput& in, std::int64_t now_ns) noexcept;
+  void drain_commands(const CycleInput& in) noexcept;
+  drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
+  void write_outputs(const drivers::DriveCommand& command) noexcept;
+  void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept;
+  void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
+  bool note_overrun(bool overran) noexcept;
+  void shut_down() noexcept;
+
+  LoopSettings s_;
+  LoopHardware hw_;
+  LoopChannels* ch_;
+  RunStateMachine machine_;
+  Interlocks interlocks_;
+  VelocityController controller_;
+  std::int64_t period_ns_;
+  std::int64_t start_ns_ = 0;
+  std::int64_t next_deadline_ns_ = 0;
+  std::int64_t previous_now_ns_ = 0;
+  std::uint64_t cycle_ = 0;
+  bool timing_started_ = false;
+  bool arrived_ = false;
+  bool overrun_storm_ = false;
+  int consecutive_misses_ = 0;
+  double last_position_mm_ = 0.0;
+  double velocity_mm_s_ = 0.0;
+  drivers::AnalogFrame last_frame_{};
+  drivers::DigitalInputs last_inputs_{};
+  std::array<std::uint64_t, 64> overrun_cycles_{};  // ring of recent overrun cycle numbers
+  std::size_t overrun_count_ = 0;
+  std::uint64_t last_command_id_ = 0;
+  CommandResult last_command_result_ = CommandResult::kPending;
+};
+
+}  // namespace rig::rt

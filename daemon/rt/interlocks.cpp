@@ -1,0 +1,56 @@
+#include "interlocks.hpp"
+
+#include <cmath>
+
+namespace rig::rt {
+
+InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& machine,
+                                   double following_error_mm) noexcept {
+  const RunState state = machine.state();
+  if (state == RunState::kEStop) return {};
+  if (in.inputs.estop) return {FaultCode::kEstopInput, 1.0};
+  if (state == RunState::kFault || !is_motion_state(state)) return {};  // at rest: reported, not faulted
+  if (in.consecutive_misses >= s_.safety.max_consecutive_misses) {
+    return {FaultCode::kLinkLost, static_cast<double>(in.consecutive_misses)};
+  }
+  return check_motion(in, machine, following_error_mm);
+}
+
+InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMachine& machine,
+                                          double following_error_mm) noexcept {
+  const RunState state = machine.state();
+  if (in.overrun_storm) return {FaultCode::kOverrunStorm, 0.0};
+  if (!in.io_ok) return {};  // values are held from the last good read: judge them next cycle
+  if (in.inputs.drive_fault) return {FaultCode::kDriveFault, 1.0};
+  if (machine.tared() && std::abs(in.force_N) > s_.safety.force_limit_N) {
+    return {FaultCode::kForceLimit, in.force_N};
+  }
+  if (in.inputs.end_limit) return {FaultCode::kEndLimit, in.position_mm};
+  if (in.inputs.home_limit && state != RunState::kHoming) return {FaultCode::kHomeLimit, in.position_mm};
+  if (machine.homed() && state != RunState::kHoming &&
+      (in.position_mm < s_.motion.soft_min_mm || in.position_mm > s_.motion.soft_max_mm)) {
+    return {FaultCode::kSoftLimit, in.position_mm};
+  }
+  if (state != RunState::kArmed && std::abs(following_error_mm) > s_.safety.max_following_error_mm) {
+    return {FaultCode::kFollowingError, following_error_mm};
+  }
+  if (force_channel_stuck(in, machine)) return {FaultCode::kStuckForce, in.force_N};
+  return {};
+}
+
+bool Interlocks::force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept {
+  constexpr double kInsideTissue_mm = 0.5;
+  const bool cutting_tissue = machine.state() == RunState::kCutting &&
+                              machine.phase() == CutPhase::kInsert &&
+                              in.position_mm > s_.motion.surface_mm + kInsideTissue_mm;
+  if (!cutting_tissue) {
+    identical_force_cycles_ = 0;
+    return false;
+  }
+  // A live load cell is never bit-identical for long: its noise spans many ADC steps.
+  identical_force_cycles_ = in.force_volts == last_force_volts_ ? identical_force_cycles_ + 1 : 0;
+  last_force_volts_ = in.force_volts;
+  return identical_force_cycles_ >= s_.safety.stuck_force_cycles;
+}
+
+}  // namespace rig::rt

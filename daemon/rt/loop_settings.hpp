@@ -1,0 +1,71 @@
+#pragma once
+// Settings of the RT loop, filled from the validated config at setup (units in names).
+namespace rig::rt {
+
+struct LinearCalibration {
+  double offset_volts = 0.0;     // output at zero
+  double units_per_volt = 1.0;   // N/V, mm/V or mmHg/V
+  double to_units(double volts) const { return (volts - offset_volts) * units_per_volt; }
+};
+
+struct Calibration {
+  LinearCalibration force{0.0, 0.5};
+  LinearCalibration position{0.05, 5.0};
+  LinearCalibration iop{0.0, 10.0};
+};
+
+struct MotionSettings {
+  double park_mm = 18.0;             // carriage position where runs start and end
+  double surface_mm = 20.0;          // carriage position where the tip touches the cornea
+  double home_switch_mm = 0.5;       // carriage position at which the home switch closes
+  double homing_velocity_mm_s = 4.0;
+  double retract_velocity_mm_s = 4.0;
+  double min_velocity_mm_s = 0.5;    // allowed cutting velocities
+  double max_velocity_mm_s = 4.0;
+  double max_depth_mm = 20.0;
+  double soft_min_mm = -0.5;         // soft travel limits (homed only)
+  double soft_max_mm = 44.0;
+  double max_homing_travel_mm = 60.0;
+  double park_tolerance_mm = 0.5;
+};
+
+struct ControllerGains {
+  double feedforward_V_per_mm_s = 1.25;
+  double kp_V_per_mm = 60.0;
+  double ki_V_per_mm_s = 300.0;
+  double max_volts = 12.0;
+  double velocity_filter_s = 0.01;   // low-pass of the velocity estimate
+};
+
+struct IopSettings {
+  double pump_full_scale_mmHg = 40.0;  // feed-forward: IOP at full pump command
+  double kp_per_mmHg = 0.02;
+  double ki_per_mmHg_s = 0.05;
+  double settle_band_mmHg = 0.3;
+  double settle_time_s = 1.0;
+  double settle_timeout_s = 20.0;
+  double min_mmHg = 5.0;
+  double max_mmHg = 40.0;
+  double fault_band_mmHg = 5.0;        // during a cut
+};
+
+struct SafetySettings {
+  double force_limit_N = 2.0;
+  int max_consecutive_misses = 2;      // DAQ reads that may fail before the link is lost
+  int overrun_storm_count = 5;         // overruns ...
+  int overrun_storm_window_cycles = 100;  // ... within this many cycles = storm
+  double max_following_error_mm = 1.0;
+  int stuck_force_cycles = 50;         // identical force readings while cutting tissue
+  int tare_cycles = 500;
+};
+
+struct LoopSettings {
+  double rate_hz = 1000.0;
+  Calibration calibration;
+  MotionSettings motion;
+  ControllerGains gains;
+  IopSettings iop;
+  SafetySettings safety;
+};
+
+}  // namespace rig::rt

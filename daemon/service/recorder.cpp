@@ -1,0 +1,142 @@
+#include "recorder.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+
+namespace rig::service {
+
+std::string describe_fault(rt::FaultCode code, double value) {
+  char detail[64] = "";
+  switch (code) {
+    case rt::FaultCode::kForceLimit: std::snprintf(detail, sizeof detail, ": %.3f N", value); break;
+    case rt::FaultCode::kSoftLimit:
+    case rt::FaultCode::kEndLimit:
+    case rt::FaultCode::kHomeLimit: std::snprintf(detail, sizeof detail, " at %.2f mm", value); break;
+    case rt::FaultCode::kFollowingError: std::snprintf(detail, sizeof detail, ": %.3f mm behind", value); break;
+    case rt::FaultCode::kLinkLost: std::snprintf(detail, sizeof detail, ": %.0f reads failed in a row", value); break;
+    case rt::FaultCode::kIopNotSettled:
+    case rt::FaultCode::kIopOutOfRange: std::snprintf(detail, sizeof detail, ": %.2f mmHg", value); break;
+    case rt::FaultCode::kHomingFailed: std::snprintf(detail, sizeof detail, " after %.1f mm", value); break;
+    default: break;
+  }
+  return std::string(rt::to_string(code)) + detail;
+}
+
+Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms)
+    : channels_(&channels),
+      archive_(std::make_unique<archive::Archive>(archive_path)),
+      flush_interval_ms_(flush_interval_ms) {
+  const int interrupted = archive_->recover_interrupted();
+  if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
+}
+
+Recorder::~Recorder() { stop(); }
+
+void Recorder::start() { thread_ = std::thread([this] { run(); }); }
+
+void Recorder::stop() {
+  if (!thread_.joinable()) return;
+  stop_.store(true);
+  thread_.join();
+}
+
+void Recorder::flush() {
+  if (!dirty_) return;
+  archive_->commit();
+  dirty_ = false;
+  commits_.fetch_add(1);
+}
+
+void Recorder::run() {
+  using Clock = std::chrono::steady_clock;
+  auto last_commit = Clock::now();
+  while (!stop_.load()) {
+    try {
+      drain();
+      if (Clock::now() - last_commit >= std::chrono::milliseconds(flush_interval_ms_)) {
+        flush();
+        last_commit = Clock::now();
+      }
+    } catch (const std::exception& e) {
+      spdlog::error("recorder: {}", e.what());  // e.g. disk full: the RT loop faults when the ring fills
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  try {
+    drain();
+    flush();
+  } catch (const std::exception& e) {
+    spdlog::error("recorder: final flush: {}", e.what());
+  }
+}
+
+std::size_t Recorder::drain() {
+  std::size_t count = 0;
+  rt::Sample sample;
+  while (channels_->recorder.try_pop(sample)) {
+    if (!dirty_) archive_->begin();
+    dirty_ = true;
+    archive_->append_sample(sample);
+    ++count;
+  }
+  samples_written_.fetch_add(count);
+  rt::Event event;
+  while (channels_->recorder_events.try_pop(event)) {
+    if (!dirty_) archive_->begin();
+    dirty_ = true;
+    handle(event);
+  }
+  return count;
+}
+
+void Recorder::handle(const rt::Event& e) {
+  using rt::EventKind;
+  switch (e.kind) {
+    case EventKind::kCommand:
+      if (e.command == rt::CommandKind::kArm && e.result == rt::CommandResult::kAccepted) armed_run_ = e.run_id;
+      if (e.run_id != 0) archive_->add_event(e.run_id, e.t_s, "command", std::string(rt::to_string(e.command)) + ": " + std::string(rt::to_string(e.result)));
+      break;
+    case EventKind::kRunStarted:
+      open_run_ = e.run_id;
+      armed_run_ = 0;
+      archive_->mark_started(e.run_id);
+      archive_->add_event(e.run_id, e.t_s, "run_started", "cutting started");
+      break;
+    case EventKind::kRunEnded: {
+      const bool faulted = e.fault != rt::FaultCode::kNone;
+      const std::string outcome = faulted ? "fault" : (e.value > 0.5 ? "stopped" : "completed");
+      const std::string reason = faulted ? last_fault_ : (e.value > 0.5 ? "stopped by the operator" : "");
+      archive_->finish_run(e.run_id, outcome, reason);
+      archive_->add_event(e.run_id, e.t_s, "run_ended", outcome);
+      open_run_ = 0;
+      break;
+    }
+    case EventKind::kFault:
+      last_fault_ = describe_fault(e.fault, e.value);
+      if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_) archive_->add_event(id, e.t_s, "fault", describe_fault(e.fault, e.value));
+      spdlog::error("fault: {}", describe_fault(e.fault, e.value));
+      break;
+    case EventKind::kStateChanged:
+      if (e.from == rt::RunState::kArmed && e.to != rt::RunState::kCutting && armed_run_ != 0) {
+        archive_->finish_run(armed_run_, "cancelled", "left Armed for " + std::string(rt::to_string(e.to)) + " before cutting");
+        armed_run_ = 0;
+      }
+      if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_) {
+        archive_->add_event(id, e.t_s, "state", std::string(rt::to_string(e.from)) + " -> " + std::string(rt::to_string(e.to)));
+      }
+      spdlog::info("state {} -> {}", rt::to_string(e.from), rt::to_string(e.to));
+      break;
+    default:
+      if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_) {
+        char value[32];
+        std::snprintf(value, sizeof value, "%.4g", e.value);
+        archive_->add_event(id, e.t_s, std::string(rt::to_string(e.kind)), value);
+      }
+      break;
+  }
+}
+
+}  // namespace rig::service

@@ -1,0 +1,128 @@
+#include "rigd_app.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <filesystem>
+
+#include "api_server.hpp"
+#include "control_loop.hpp"
+#include "force_model.hpp"
+#include "modbus/modbus_daq.hpp"
+#include "clock/monotonic_clock.hpp"
+#include "recorder.hpp"
+#include "rt_thread.hpp"
+#include "stream_hub.hpp"
+#include "udp_publisher.hpp"
+
+namespace rig::service {
+
+std::string software_version() { return RIGD_VERSION; }
+
+struct RigdApp::Parts {
+  std::unique_ptr<drivers::ModbusDaq> daq;
+  drivers::AnalogInput* analog = nullptr;
+  drivers::DigitalIo* digital = nullptr;
+  drivers::ActuatorDrive* drive = nullptr;
+  drivers::MonotonicClock clock;
+  std::unique_ptr<rt::LoopChannels> channels;
+  std::unique_ptr<rt::ControlLoop> loop;
+  std::unique_ptr<Recorder> recorder;
+  std::unique_ptr<StreamHub> hub;
+  std::unique_ptr<UdpPublisher> udp;
+  api::ApiContext api_context;
+  std::unique_ptr<api::ApiServer> api;
+  RtThreadReport rt_report;
+};
+
+RigdApp::RigdApp(config::RigdConfig config) : config_(std::move(config)), parts_(std::make_unique<Parts>()) {}
+
+RigdApp::~RigdApp() { shutdown(); }
+
+api::ApiContext& RigdApp::api_context() { return parts_->api_context; }
+
+int RigdApp::api_port() const { return parts_->api ? parts_->api->port() : 0; }
+
+void RigdApp::start_drivers() {
+  if (config_.daq.kind != "modbus") throw std::runtime_error("daq.kind = \"" + config_.daq.kind + "\" is not available in this build");
+  parts_->daq = std::make_unique<drivers::ModbusDaq>(config_.daq.modbus);
+  parts_->analog = parts_->daq.get();
+  parts_->digital = parts_->daq.get();
+  parts_->drive = parts_->daq.get();
+  spdlog::info("DAQ: Modbus {} {}", config_.daq.modbus.transport,
+               config_.daq.modbus.transport == "tcp" ? config_.daq.modbus.host + ":" + std::to_string(config_.daq.modbus.port)
+                                                     : config_.daq.modbus.serial_device);
+}
+
+void RigdApp::start_loop() {
+  parts_->channels = std::make_unique<rt::LoopChannels>();
+  rt::LoopHardware hw{parts_->analog, parts_->digital, parts_->drive, &parts_->clock};
+  parts_->loop = std::make_unique<rt::ControlLoop>(config_.loop, hw, *parts_->channels);
+  RtThreadReport memory = lock_process_memory(config_.thread.lock_memory);
+  parts_->rt_report = memory;
+  RtThreadOptions options{config_.thread.priority, config_.thread.cpu, config_.thread.lock_memory};
+  rt_thread_ = start_rt_thread(options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
+  for (const auto& warning : parts_->rt_report.warnings) spdlog::warn("RT: {}", warning);
+  spdlog::info("RT loop at {} Hz ({}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
+               parts_->rt_report.memory_locked ? ", memory locked" : "");
+}
+
+void RigdApp::start_services() {
+  std::filesystem::create_directories(std::filesystem::absolute(config_.archive.path).parent_path());
+  parts_->recorder = std::make_unique<Recorder>(*parts_->channels, config_.archive.path, config_.archive.flush_interval_ms);
+  parts_->recorder->start();
+  parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm, config_.stream.batch_ms);
+  try {
+    parts_->hub->set_model(std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file)));
+  } catch (const std::exception& e) {
+    spdlog::warn("model: {} (the live overlay shows no model curve)", e.what());
+  }
+  api::ApiContext& c = parts_->api_context;
+  c.channels = parts_->channels.get();
+  c.hub = parts_->hub.get();
+  c.config = &config_;
+  c.realtime = parts_->rt_report.realtime;
+  c.version = software_version();
+  if (!config_.api.token_file.empty()) c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
+  drivers::ModbusDaq* daq = parts_->daq.get();
+  c.extra_metrics = [daq] {
+    const auto n = daq->counters();
+    return "# TYPE rigd_modbus_timeouts_total counter\nrigd_modbus_timeouts_total " + std::to_string(n.timeouts) +
+           "\n# TYPE rigd_modbus_link_errors_total counter\nrigd_modbus_link_errors_total " + std::to_string(n.link_errors) +
+           "\n# TYPE rigd_modbus_bad_data_total counter\nrigd_modbus_bad_data_total " + std::to_string(n.bad_data) + "\n";
+  };
+  parts_->api = std::make_unique<api::ApiServer>(c, config_.api.bind, config_.api.port);
+  parts_->hub->add_sink(parts_->api.get());
+  if (config_.stream.udp_enabled) {
+    parts_->udp = std::make_unique<UdpPublisher>(config_.stream.udp_host, config_.stream.udp_port);
+    parts_->hub->add_sink(parts_->udp.get());
+  }
+  parts_->hub->start();
+  parts_->api->start();
+}
+
+void RigdApp::start() {
+  start_drivers();
+  start_loop();
+  start_services();
+}
+
+bool RigdApp::loop_alive() {
+  if (!parts_->channels) return false;
+  const std::uint64_t cycles = parts_->channels->counters.cycles.load();
+  const bool alive = cycles != last_cycles_seen_;
+  last_cycles_seen_ = cycles;
+  return alive;
+}
+
+void RigdApp::shutdown() {
+  if (rt_thread_.joinable()) {
+    stop_loop_.store(true);
+    rt_thread_.join();  // the loop writes motor off on its way out
+    spdlog::info("RT loop stopped, motor off");
+  }
+  if (parts_->hub) parts_->hub->stop();
+  if (parts_->api) parts_->api->stop();
+  if (parts_->recorder) parts_->recorder->stop();
+}
+
+}  // namespace rig::service

@@ -1,0 +1,52 @@
+#include "rt_thread.hpp"
+
+#include <pthread.h>
+#include <sched.h>
+#include <sys/mman.h>
+
+#include <cerrno>
+#include <cstring>
+
+namespace rig::service {
+
+RtThreadReport lock_process_memory(bool lock) {
+  RtThreadReport report;
+  if (!lock) return report;
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
+    report.memory_locked = true;
+  } else {
+    report.warnings.push_back(std::string("mlockall failed (") + std::strerror(errno) +
+                              "): page faults may delay the loop; raise LimitMEMLOCK");
+  }
+  return report;
+}
+
+std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body, RtThreadReport& report) {
+  std::thread thread(std::move(body));
+  const pthread_t handle = thread.native_handle();
+  if (options.priority > 0) {
+    sched_param param{};
+    param.sched_priority = options.priority;
+    const int rc = pthread_setschedparam(handle, SCHED_FIFO, &param);
+    if (rc == 0) {
+      report.realtime = true;
+    } else {
+      report.warnings.push_back("SCHED_FIFO priority " + std::to_string(options.priority) + " refused (" +
+                                std::strerror(rc) + "): the loop runs with normal scheduling; grant CAP_SYS_NICE / LimitRTPRIO");
+    }
+  }
+  if (options.cpu >= 0) {
+    cpu_set_t set;
+    CPU_ZERO(&set);
+    CPU_SET(static_cast<unsigned>(options.cpu), &set);
+    const int rc = pthread_setaffinity_np(handle, sizeof set, &set);
+    if (rc == 0) {
+      report.pinned = true;
+    } else {
+      report.warnings.push_back("pinning the loop to CPU " + std::to_string(options.cpu) + " failed: " + std::strerror(rc));
+    }
+  }
+  return thread;
+}
+
+}  // namespace rig::service

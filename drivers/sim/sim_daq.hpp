@@ -1,0 +1,30 @@
+#pragma once
+// The DAQ of the simulated rig, in-process: the same interfaces as the Modbus DAQ, over
+// RigPhysics, with link faults a test can inject. Used with VirtualClock so the whole
+// control loop runs faster than real time.
+#include "rig/drivers/actuator_drive.hpp"
+#include "rig/drivers/analog_input.hpp"
+#include "rig/drivers/digital_io.hpp"
+#include "rig/sim/rig_physics.hpp"
+
+namespace rig::drivers {
+
+class SimDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo {
+ public:
+  explicit SimDaq(sim::RigPhysics& physics) : physics_(&physics) {}
+
+  IoStatus read(AnalogFrame& frame) noexcept override;
+  IoStatus read(DigitalInputs& inputs) noexcept override;
+  IoStatus write(const DigitalOutputs& outputs) noexcept override;
+  IoStatus write(const DriveCommand& command) noexcept override;
+
+  // Every call fails with this status until cleared with kOk (link loss, time-outs, garbage).
+  void inject(IoStatus failure) noexcept { injected_ = failure; }
+
+ private:
+  sim::RigPhysics* physics_;
+  IoStatus injected_ = IoStatus::kOk;
+  DigitalOutputs staged_{};
+};
+
+}  // namespace rig::drivers

@@ -1,0 +1,75 @@
+// rig-sim: the simulated rig on loopback, speaking the DAQ's Modbus TCP register map.
+#include <CLI/CLI.hpp>
+
+#include <atomic>
+#include <pthread.h>
+#include <sched.h>
+
+#include <csignal>
+#include <fstream>
+#include <iostream>
+
+#include "modbus_sim_server.hpp"
+#include "rig/sim/hidden_effect.hpp"
+#include "rig/sim/rig_physics.hpp"
+
+namespace {
+
+std::atomic<bool> g_stop{false};
+void on_signal(int /*signal*/) { g_stop.store(true); }
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rig-sim: simulated keratome rig (DC motor + lead screw, cornea, IOP line, DAQ) on Modbus TCP"};
+  rig::sim::SimServerOptions options;
+  rig::sim::PhysicsParams physics;
+  std::vector<std::string> effect_specs;
+  std::string port_file;
+  double covariate = 2.0;
+  int rt_priority = 70;
+  app.add_option("--bind", options.bind, "address to listen on (loopback by default)");
+  app.add_option("--port", options.port, "TCP port, 0 = any free port")->check(CLI::Range(0, 65535));
+  app.add_option("--port-file", port_file, "write the port here once listening");
+  app.add_option("--seed", physics.seed, "random seed (noise, per-eye variation)");
+  app.add_option("--effect", effect_specs, "hide an effect: name[:form][=size] or covariate:KEY[:form][=size]");
+  app.add_option("--covariate-value", covariate, "value of the hidden covariate for the mounted eyes");
+  app.add_option("--surface-mm", physics.tissue.surface_mm, "carriage position of the corneal surface [mm]");
+  app.add_option("--eye-variability", physics.tissue.eye_variability, "relative sigma of per-eye stiffness");
+  app.add_option("--force-noise-N", physics.sensors.force_noise_N, "load-cell noise, 1 sigma [N]");
+  app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server thread (a DAQ answers at once), 0 = none");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<rig::sim::HiddenEffect> effects;
+  for (const auto& spec : effect_specs) {
+    std::string error;
+    const auto effect = rig::sim::parse_hidden_effect(spec, error);
+    if (!effect) {
+      std::cerr << "rig-sim: --effect " << error << "\n";
+      return 2;
+    }
+    effects.push_back(*effect);
+  }
+  try {
+    rig::sim::RigPhysics rig(physics, effects);
+    rig.set_next_eye_covariate(covariate);
+    rig.mount_new_eye(covariate);
+    rig::sim::ModbusSimServer server(rig, options);
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
+    if (!port_file.empty()) std::ofstream(port_file) << server.port() << "\n";
+    if (rt_priority > 0) {
+      sched_param param{};
+      param.sched_priority = rt_priority;
+      if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) {
+        std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
+      }
+    }
+    std::cout << "rig-sim: listening on " << options.bind << ":" << server.port() << std::endl;
+    server.run(g_stop);
+  } catch (const std::exception& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,221 @@
+#include "modbus_sim_server.hpp"
+
+#include <arpa/inet.h>
+#include <modbus/modbus.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/select.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+
+#include "rig/proto/daq_register_map.hpp"
+
+namespace rig::sim {
+namespace reg = rig::proto::daq;
+
+void ModbusSimServer::ModbusCloser::operator()(_modbus* ctx) const noexcept {
+  modbus_close(ctx);
+  modbus_free(ctx);
+}
+void ModbusSimServer::MappingFree::operator()(_modbus_mapping_t* mapping) const noexcept {
+  modbus_mapping_free(mapping);
+}
+
+ModbusSimServer::ModbusSimServer(RigPhysics& physics, const SimServerOptions& options)
+    : physics_(&physics),
+      ctx_(modbus_new_tcp(options.bind.c_str(), options.port)),
+      mapping_(modbus_mapping_new(0, 0, reg::kMapSize, reg::kMapSize)) {
+  if (!ctx_ || !mapping_) throw std::runtime_error("rig-sim: cannot create the Modbus server: " + std::string(modbus_strerror(errno)));
+  modbus_set_slave(ctx_.get(), reg::kUnitId);
+  listen_fd_ = modbus_tcp_listen(ctx_.get(), 16);
+  if (listen_fd_ < 0) {
+    throw std::runtime_error("rig-sim: cannot listen on " + options.bind + ":" + std::to_string(options.port) +
+                             ": " + modbus_strerror(errno));
+  }
+  sockaddr_in address{};
+  socklen_t length = sizeof address;
+  getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length);
+  port_ = ntohs(address.sin_port);
+  start_wall_s_ = wall_time_s();
+  start_wall_s_ -= physics_->time_s();
+  std::lock_guard lock(mutex_);
+  refresh_registers();
+}
+
+ModbusSimServer::~ModbusSimServer() {
+  if (listen_fd_ >= 0) close(listen_fd_);
+}
+
+double ModbusSimServer::wall_time_s() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+void ModbusSimServer::refresh_registers() {
+  physics_->advance_to(wall_time_s() - start_wall_s_);
+  std::uint16_t* in = mapping_->tab_input_registers;
+  const drivers::AnalogFrame frame = physics_->analog_frame();
+  const drivers::DigitalInputs digital = physics_->digital_inputs();
+  const RigTruth truth = physics_->truth();
+  reg::encode_u32(frame.sequence, in + reg::input::kSequence);
+  reg::encode_f32(static_cast<float>(frame.force_volts), in + reg::input::kForceVolts);
+  reg::encode_f32(static_cast<float>(frame.position_volts), in + reg::input::kPositionVolts);
+  reg::encode_f32(static_cast<float>(frame.iop_volts), in + reg::input::kIopVolts);
+  std::uint16_t bits = 0;
+  if (digital.home_limit) bits |= reg::input_bit::kHomeLimit;
+  if (digital.end_limit) bits |= reg::input_bit::kEndLimit;
+  if (digital.estop) bits |= reg::input_bit::kEstop;
+  if (digital.drive_fault) bits |= reg::input_bit::kDriveFault;
+  if (truth.watchdog_tripped) bits |= reg::input_bit::kWatchdogTripped;
+  in[reg::input::kDigitalInputs] = bits;
+  reg::encode_u32(static_cast<std::uint32_t>(truth.time_s * 1e6), in + reg::input::kDaqTimeUs);
+  in[reg::input::kVersion] = reg::kProtocolVersion;
+  reg::encode_f32(static_cast<float>(truth.carriage_mm), in + reg::sim_truth::kCarriageMm);
+  reg::encode_f32(static_cast<float>(truth.force_N), in + reg::sim_truth::kForceN);
+  in[reg::sim_truth::kMotorPowered] = truth.motor_powered ? 1 : 0;
+  reg::encode_u32(truth.motor_off_time_s < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(truth.motor_off_time_s * 1e6),
+                  in + reg::sim_truth::kMotorOffTimeUs);
+  reg::encode_u32(static_cast<std::uint32_t>(truth.time_s * 1e6), in + reg::sim_truth::kSimTimeUs);
+  reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
+}
+
+void ModbusSimServer::apply_writes() {
+  const std::uint16_t* h = mapping_->tab_registers;
+  InjectedFaults& faults = physics_->faults();
+  faults.estop_pressed = h[reg::sim_panel::kEstopButton] != 0;
+  faults.stuck_force = h[reg::sim_panel::kStuckForce] != 0;
+  faults.extra_force_N = reg::decode_f32(h + reg::sim_panel::kExtraForceN);
+  if (!std::isfinite(faults.extra_force_N)) faults.extra_force_N = 0.0;
+  faults.end_limit_forced = h[reg::sim_panel::kEndLimitForced] != 0;
+  faults.home_limit_forced = h[reg::sim_panel::kHomeLimitForced] != 0;
+  if (h[reg::sim_panel::kNewEye] != last_new_eye_) {
+    last_new_eye_ = h[reg::sim_panel::kNewEye];
+    if (last_new_eye_ != 0) physics_->mount_new_eye(2.0);
+  }
+}
+
+void ModbusSimServer::drop_all(std::vector<int>& clients) {
+  for (const int fd : clients) close(fd);
+  clients.clear();
+}
+
+void ModbusSimServer::accept_client(std::vector<int>& clients) {
+  const int fd = accept(listen_fd_, nullptr, nullptr);
+  if (fd < 0) return;
+  // Replies must leave at once: without TCP_NODELAY, Nagle + delayed ACK hold the second
+  // reply of a cycle (read, then write) for up to 40 ms.
+  const int one = 1;
+  setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+  bool dropping = false;
+  {
+    std::lock_guard lock(mutex_);
+    dropping = mapping_->tab_registers[reg::sim_panel::kLinkDrop] != 0;
+  }
+  if (dropping) {
+    close(fd);  // the link is "cut": connections die at once
+    return;
+  }
+  clients.push_back(fd);
+}
+
+void ModbusSimServer::serve_client(int fd, std::vector<int>& clients) {
+  std::uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];
+  modbus_set_socket(ctx_.get(), fd);
+  const int length = modbus_receive(ctx_.get(), query);
+  auto forget = [&] {
+    close(fd);
+    clients.erase(std::remove(clients.begin(), clients.end(), fd), clients.end());
+  };
+  if (length < 0) return forget();
+  if (length == 0) return;  // addressed to another unit
+  std::uint16_t late_us = 0;
+  bool garbage = false;
+  {
+    std::lock_guard lock(mutex_);
+    if (mapping_->tab_registers[reg::sim_panel::kLinkDrop] != 0) {
+      drop_all(clients);
+      return;
+    }
+    late_us = mapping_->tab_registers[reg::sim_panel::kLateReplyUs];
+    garbage = mapping_->tab_registers[reg::sim_panel::kGarbageReplies] != 0;
+  }
+  if (late_us > 0) std::this_thread::sleep_for(std::chrono::microseconds(late_us));
+  std::lock_guard lock(mutex_);
+  refresh_registers();
+  const int header = modbus_get_header_length(ctx_.get());
+  const int function = query[header];
+  const int address = (query[header + 1] << 8) | query[header + 2];
+  if (garbage && function == MODBUS_FC_READ_INPUT_REGISTERS) {
+    std::fill_n(mapping_->tab_input_registers, reg::input::kCount, std::uint16_t{0xFFFF});
+  }
+  const int rc = modbus_reply(ctx_.get(), query, length, mapping_.get());
+  const bool write = function == MODBUS_FC_WRITE_SINGLE_REGISTER || function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
+                     function == MODBUS_FC_WRITE_AND_READ_REGISTERS;
+  if (write) {
+    apply_writes();
+    if (address < reg::holding::kCount) {
+      const std::uint16_t* h = mapping_->tab_registers;
+      drivers::DriveCommand drive;
+      drivers::DigitalOutputs digital;
+      drive.motor_enable = (h[reg::holding::kDigitalOutputs] & reg::output_bit::kMotorEnable) != 0;
+      digital.motor_enable = drive.motor_enable;
+      digital.camera_trigger = (h[reg::holding::kDigitalOutputs] & reg::output_bit::kCameraTrigger) != 0;
+      drive.motor_volts = reg::decode_f32(h + reg::holding::kMotorVolts);
+      drive.pump_command = reg::decode_f32(h + reg::holding::kPumpCommand);
+      if (!std::isfinite(drive.motor_volts) || !std::isfinite(drive.pump_command)) drive = {};
+      physics_->set_watchdog_ms(h[reg::holding::kWatchdogMs]);
+      physics_->write_outputs(drive, digital);
+    }
+  }
+  if (rc < 0) forget();
+}
+
+void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
+  double drop_until_s = -1.0;
+  while (!stop.load()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    std::lock_guard lock(mutex_);
+    refresh_registers();
+    std::uint16_t& drop = mapping_->tab_registers[reg::sim_panel::kLinkDrop];
+    if (drop == 0) {
+      drop_until_s = -1.0;
+    } else if (drop != 0xFFFF) {  // value in units of 10 ms; 0xFFFF = until cleared by restart
+      const double now = wall_time_s();
+      if (drop_until_s < 0.0) drop_until_s = now + drop * 0.01;
+      if (now >= drop_until_s) drop = 0;
+    }
+  }
+}
+
+void ModbusSimServer::run(const std::atomic<bool>& stop) {
+  std::thread physics([this, &stop] { physics_thread(stop); });
+  std::vector<int> clients;
+  while (!stop.load()) {
+    fd_set read_set;
+    FD_ZERO(&read_set);
+    FD_SET(listen_fd_, &read_set);
+    int max_fd = listen_fd_;
+    for (const int fd : clients) {
+      FD_SET(fd, &read_set);
+      max_fd = std::max(max_fd, fd);
+    }
+    timeval timeout{0, 100000};
+    const int ready = select(max_fd + 1, &read_set, nullptr, nullptr, &timeout);
+    if (ready <= 0) continue;
+    if (FD_ISSET(listen_fd_, &read_set)) accept_client(clients);
+    const std::vector<int> snapshot = clients;
+    for (const int fd : snapshot) {
+      if (FD_ISSET(fd, &read_set) && std::find(clients.begin(), clients.end(), fd) != clients.end()) serve_client(fd, clients);
+    }
+  }
+  drop_all(clients);
+  physics.join();
+}
+
+}  // namespace rig::sim

@@ -1,0 +1,61 @@
+#pragma once
+// rig-sim's Modbus TCP server: the simulated rig's DAQ behind the real register map
+// (proto/include/rig/proto/daq_register_map.hpp). Any Modbus client can talk to it: rigd,
+// mbpoll, a lab's own tools. Physics advances on every request (a DAQ converts
+// continuously) and in the background, so the DAQ watchdog runs without requests too.
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "rig/sim/rig_physics.hpp"
+
+struct _modbus;
+struct _modbus_mapping_t;
+
+namespace rig::sim {
+
+struct SimServerOptions {
+  std::string bind = "127.0.0.1";
+  int port = 1502;  // 0 = any free port
+};
+
+class ModbusSimServer {
+ public:
+  ModbusSimServer(RigPhysics& physics, const SimServerOptions& options);  // binds; throws
+  ~ModbusSimServer();
+  ModbusSimServer(const ModbusSimServer&) = delete;
+  ModbusSimServer& operator=(const ModbusSimServer&) = delete;
+
+  int port() const { return port_; }
+  void run(const std::atomic<bool>& stop);  // serves until stop is set
+
+ private:
+  struct ModbusCloser {
+    void operator()(_modbus* ctx) const noexcept;
+  };
+  struct MappingFree {
+    void operator()(_modbus_mapping_t* mapping) const noexcept;
+  };
+
+  void physics_thread(const std::atomic<bool>& stop);
+  double wall_time_s() const;
+  void refresh_registers();  // physics -> input registers (mutex held)
+  void apply_writes();       // holding registers -> physics and faults (mutex held)
+  void serve_client(int fd, std::vector<int>& clients);
+  void accept_client(std::vector<int>& clients);
+  void drop_all(std::vector<int>& clients);
+
+  RigPhysics* physics_;
+  std::unique_ptr<_modbus, ModbusCloser> ctx_;
+  std::unique_ptr<_modbus_mapping_t, MappingFree> mapping_;
+  std::mutex mutex_;  // guards physics_ and mapping_
+  int listen_fd_ = -1;
+  int port_ = 0;
+  double start_wall_s_ = 0.0;
+  std::uint16_t last_new_eye_ = 0;
+};
+
+}  // namespace rig::sim

@@ -1,0 +1,69 @@
+// The control loop closed around the simulated rig, on a virtual clock.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+#include "simulated_rig.hpp"
+
+namespace rig {
+namespace {
+
+using rt::CommandKind;
+using rt::CommandResult;
+using rt::RunState;
+
+bool in_state(sim::SimulatedRig& rig, RunState state, double timeout_s) {
+  return rig.run_until([state](const rt::StatusSnapshot& st) { return st.state == state; }, timeout_s);
+}
+
+TEST(ClosedLoop, HomingFindsTheHomeSwitchAndParksTheCarriage) {
+  sim::SimulatedRig rig;
+  ASSERT_EQ(rig.command(CommandKind::kHome), CommandResult::kAccepted);
+  ASSERT_TRUE(in_state(rig, RunState::kReady, 30.0));
+  const rt::StatusSnapshot st = rig.status();
+  EXPECT_TRUE(st.homed);
+  EXPECT_NEAR(st.position_mm, 18.0, 0.05);
+  EXPECT_NEAR(rig.physics().truth().carriage_mm, 18.0, 0.05);
+}
+
+TEST(ClosedLoop, ARunIsRefusedBeforeHomingAndBeforeTaring) {
+  sim::SimulatedRig rig;
+  EXPECT_EQ(rig.command(CommandKind::kArm, rt::RunParams{}), CommandResult::kWrongState);
+  rig.command(CommandKind::kHome);
+  ASSERT_TRUE(in_state(rig, RunState::kReady, 30.0));
+  EXPECT_EQ(rig.command(CommandKind::kArm, rt::RunParams{}), CommandResult::kNotTared);
+}
+
+TEST(ClosedLoop, ACutHoldsTwoMillimetresPerSecondAndPeaksWhereTheTissuePunctures) {
+  sim::SimulatedRig rig;
+  rt::RunParams params;
+  params.iop_mmHg = 15.0;
+  params.velocity_mm_s = 2.0;
+  params.depth_mm = 14.0;
+  const sim::RecordedRun run = rig.record_run(params);
+  ASSERT_EQ(run.final_status.state, RunState::kDone);
+  ASSERT_GT(run.samples.size(), 5000U);
+  const double surface = rig.physics().params().tissue.surface_mm;
+  // Mean velocity over the insertion, away from its ends.
+  const rt::Sample* first = nullptr;
+  const rt::Sample* last = nullptr;
+  const rt::Sample* peak = &run.samples.front();
+  for (const auto& s : run.samples) {
+    if (s.phase != rt::CutPhase::kInsert) continue;
+    const double depth = s.position_mm - surface;
+    if (depth > 0.5 && first == nullptr) first = &s;
+    if (depth < 13.5) last = &s;
+    if (depth < 6.0 && s.force_N > peak->force_N) peak = &s;
+  }
+  ASSERT_NE(first, nullptr);
+  ASSERT_NE(last, nullptr);
+  const double velocity = (last->position_mm - first->position_mm) / (last->t_s - first->t_s);
+  EXPECT_NEAR(velocity, 2.0, 0.02);
+  const double x_pi = rig.physics().tissue().puncture_depth_mm(15.0);
+  EXPECT_NEAR(peak->position_mm - surface, x_pi, 0.1);
+  EXPECT_GT(peak->force_N, 0.15);
+  EXPECT_LT(peak->force_N, 0.40);
+}
+
+}  // namespace
+}  // namespace rig
