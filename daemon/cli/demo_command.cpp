@@ -1,0 +1,175 @@
+#include "demo_command.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <boost/asio/ip/tcp.hpp>
+
+#include <csignal>
+#include <ctime>
+#include <filesystem>
+#include <iostream>
+#include <regex>
+#include <thread>
+
+#include "archive.hpp"
+#include "child_process.hpp"
+#include "cut_summary.hpp"
+
+namespace rig::cli {
+namespace {
+
+struct DemoOptions {
+  std::string sim = "rig-sim";
+  std::string rigd = "rigd";
+  std::string config = "config/rigd.sim.toml";
+  std::string web_root;
+  std::string state_dir = "demo-state";
+  int port = 8080;
+  bool once = false;
+  double iop_mmHg = 15.0;
+  double velocity_mm_s = 2.0;
+  double depth_mm = 14.0;
+};
+
+bool port_free(int port) {
+  try {
+    boost::asio::io_context io;
+    boost::asio::ip::tcp::acceptor acceptor(io, {boost::asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)});
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+nlohmann::json wait_state(const ApiClient& api, const std::function<bool(const nlohmann::json&)>& done, int timeout_s, const std::string& what) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
+  while (std::chrono::steady_clock::now() < end) {
+    const nlohmann::json s = nlohmann::json::parse(api.get("/api/status").body);
+    if (done(s)) return s;
+    if (s["state"] == "Fault" || s["state"] == "EStop") throw std::runtime_error(what + ": rig went to " + s["state"].get<std::string>() + ": " + s["fault"].get<std::string>());
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  throw std::runtime_error(what + ": no result within " + std::to_string(timeout_s) + " s");
+}
+
+void command(const ApiClient& api, const std::string& name, const std::string& body = "") {
+  const HttpReply reply = api.post("/api/" + name, body);
+  if (reply.status != 200) throw std::runtime_error(name + " refused: " + reply.body);
+}
+
+std::int64_t run_the_cut(const ApiClient& api, const DemoOptions& o, bool quiet) {
+  auto say = [quiet](const std::string& text) { if (!quiet) std::cerr << "[demo] " << text << std::endl; };
+  say("homing");
+  command(api, "home");
+  wait_state(api, [](const nlohmann::json& s) { return s["state"] == "Ready"; }, 60, "homing");
+  say("taring the load cell");
+  command(api, "tare");
+  wait_state(api, [](const nlohmann::json& s) { return s["tared"] == true; }, 10, "tare");
+  say("cutting: IOP " + fixed(o.iop_mmHg, 0) + " mmHg, " + fixed(o.velocity_mm_s, 1) + " mm/s, " + fixed(o.depth_mm, 0) + " mm");
+  const nlohmann::json body = {{"eye_id", "DEMO-" + std::to_string(std::time(nullptr))}, {"iop_mmHg", o.iop_mmHg},
+                               {"velocity_mm_s", o.velocity_mm_s}, {"depth_mm", o.depth_mm}, {"post_mortem_h", 2.0},
+                               {"operator", "rig demo"}, {"meta", {{"specimen", "simulated ovine eye"}}}};
+  const HttpReply reply = api.post("/api/run", body.dump());
+  if (reply.status != 200) throw std::runtime_error("run refused: " + reply.body);
+  const std::int64_t run_id = nlohmann::json::parse(reply.body)["run_id"];
+  wait_state(api, [](const nlohmann::json& s) { return s["state"] == "Done"; }, 120, "cut");
+  say("run " + std::to_string(run_id) + " done");
+  return run_id;
+}
+
+nlohmann::json summarize(const CliContext& c, const ApiClient& api, std::int64_t run_id, const std::string& archive_path) {
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // the recorder commits every 50 ms
+  archive::Archive archive(archive_path, true);
+  const model::RunData run = archive.load_run(run_id);
+  const nlohmann::json status = nlohmann::json::parse(api.get("/api/status").body);
+  std::unique_ptr<model::ForceModel> force_model;
+  try {
+    force_model = std::make_unique<model::ForceModel>(model::ForceModel::load(status["model_file"]));
+  } catch (const std::exception& e) {
+    std::cerr << "[demo] warning: " << e.what() << "\n";
+  }
+  const model::CutSummary s = model::summarize_cut(run, force_model.get());
+  nlohmann::json j = {{"run_id", run_id}, {"outcome", archive.find_run(run_id)->outcome}, {"samples", s.samples},
+                      {"commanded_velocity_mm_s", s.commanded_velocity_mm_s}, {"velocity_mean_mm_s", s.velocity_mean_mm_s},
+                      {"velocity_error_pct", s.velocity_error_pct}, {"peak_force_N", s.peak_force_N},
+                      {"x_at_peak_mm", s.x_at_peak_mm}, {"max_depth_mm", s.max_depth_mm},
+                      {"loop_jitter_p99_us", status["loop"]["jitter_p99_us"]}, {"loop_overruns", status["loop"]["overruns"]},
+                      {"realtime", status["loop"]["realtime"]}, {"overlay_url", api.url() + "/"}};
+  if (s.model_rmse_N) {
+    j["model_rmse_N"] = *s.model_rmse_N;
+    j["model_file"] = status["model_file"];
+  }
+  (void)c;
+  return j;
+}
+
+void print_summary(const nlohmann::json& j) {
+  print_pairs({{"run", std::to_string(j["run_id"].get<std::int64_t>()) + " (" + j["outcome"].get<std::string>() + ")"},
+               {"samples", std::to_string(j["samples"].get<std::size_t>())},
+               {"velocity", fixed(j["velocity_mean_mm_s"], 4) + " mm/s (commanded " + fixed(j["commanded_velocity_mm_s"], 2) +
+                                ", error " + fixed(j["velocity_error_pct"], 3) + " %)"},
+               {"puncture peak", fixed(j["peak_force_N"], 4) + " N at x = " + fixed(j["x_at_peak_mm"], 3) + " mm"},
+               {"model RMSE", j.contains("model_rmse_N") ? fixed(j["model_rmse_N"], 4) + " N vs " + j["model_file"].get<std::string>() : "-"},
+               {"loop", "jitter p99 " + fixed(j["loop_jitter_p99_us"], 0) + " us, overruns " + std::to_string(j["loop_overruns"].get<std::int64_t>()) +
+                            (j["realtime"] ? ", SCHED_FIFO" : ", not real-time")},
+               {"live overlay", j["overlay_url"]}});
+}
+
+int run_demo(const CliContext& c, const DemoOptions& o) {
+  std::filesystem::create_directories(o.state_dir);
+  const std::string state = std::filesystem::absolute(o.state_dir).string();
+  const std::string archive_path = state + "/archive.sqlite";
+  ChildProcess sim({o.sim, "--port", "0"}, state + "/rig-sim.log");
+  const std::string listening = sim.wait_for_line("listening on", 10000);
+  const std::string sim_port = listening.substr(listening.rfind(':') + 1);
+  const int api_port = port_free(o.port) ? o.port : 0;
+  std::vector<std::string> rigd_args = {o.rigd, "--config", o.config, "--set", "daq.port=" + sim_port,
+                                        "--set", "api.port=" + std::to_string(api_port), "--set", "archive.path=\"" + archive_path + "\""};
+  if (!o.web_root.empty()) rigd_args.insert(rigd_args.end(), {"--set", "api.web_root=\"" + o.web_root + "\""});
+  ChildProcess rigd(rigd_args, state + "/rigd.log");
+  const std::string ready = rigd.wait_for_line("ready, API on", 15000);
+  const ApiClient api(ready.substr(ready.find("http://")), "");
+  nlohmann::json summary;
+  try {
+    summary = summarize(c, api, run_the_cut(api, o, c.json()), archive_path);
+  } catch (const std::exception& e) {
+    std::cerr << "[demo] failed: " << e.what() << "\n[demo] logs: " << state << "/rigd.log, " << state << "/rig-sim.log\n";
+    return 1;
+  }
+  if (c.json()) std::cout << summary.dump() << std::endl;
+  else print_summary(summary);
+  std::cout.flush();
+  if (!o.once) {
+    std::cerr << "[demo] live overlay at " << api.url() << "/  (runs stay in " << archive_path << "); Ctrl-C to stop" << std::endl;
+    sigset_t signals;
+    sigemptyset(&signals);
+    sigaddset(&signals, SIGINT);
+    sigaddset(&signals, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    int signal = 0;
+    sigwait(&signals, &signal);
+  }
+  rigd.stop();
+  sim.stop();
+  return summary["outcome"] == "completed" ? 0 : 1;
+}
+
+}  // namespace
+
+void add_demo_command(CLI::App& app, CliContext& c, int& exit_code) {
+  auto o = std::make_shared<DemoOptions>();
+  CLI::App* demo = app.add_subcommand("demo", "simulated cut with the live overlay and the model comparison");
+  demo->add_option("--sim", o->sim, "rig-sim executable");
+  demo->add_option("--rigd", o->rigd, "rigd executable");
+  demo->add_option("--config", o->config, "rigd config for the simulated rig");
+  demo->add_option("--web-root", o->web_root, "overlay page directory");
+  demo->add_option("--state-dir", o->state_dir, "where the demo's archive and logs go");
+  demo->add_option("--port", o->port, "API port (a free one if taken)");
+  demo->add_option("--iop", o->iop_mmHg, "IOP [mmHg]");
+  demo->add_option("--velocity", o->velocity_mm_s, "cutting velocity [mm/s]");
+  demo->add_option("--depth", o->depth_mm, "insertion depth [mm]");
+  demo->add_flag("--once", o->once, "print the summary and exit (no overlay)");
+  demo->callback([&c, &exit_code, o] { exit_code = run_demo(c, *o); });
+}
+
+}  // namespace rig::cli

@@ -1,0 +1,38 @@
+// The README's first command: `rig demo --once --format json` on the simulated rig.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+
+#include "rig/sim/physics_params.hpp"
+#include "test_paths.hpp"
+
+namespace rig {
+namespace {
+
+TEST(Demo, OnceAsJsonCutsTwoThousandSamplesPerMillimetreAndFindsThePeakWhereTheTruthPutsIt) {
+  testing::ScratchDir dir("demo");
+  const std::string command = testing::bin("rig") + " --format json demo --once --port 0 --sim " + testing::bin("rig-sim") +
+                              " --rigd " + testing::bin("rigd") + " --config " + testing::source("config/rigd.sim.toml") +
+                              " --state-dir " + dir.path().string();
+  std::array<char, 4096> buffer{};
+  std::string out;
+  FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
+  const int status = pclose(pipe);
+  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
+  const auto j = nlohmann::json::parse(out);
+  for (const char* key : {"run_id", "samples", "velocity_mean_mm_s", "velocity_error_pct", "peak_force_N", "x_at_peak_mm"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_GE(j["samples"].get<int>(), 5000);
+  EXPECT_LT(std::abs(j["velocity_error_pct"].get<double>()), 1.0);
+  const sim::TissueParams truth;  // the simulated eye: x_pi(15 mmHg) from Table 1
+  EXPECT_NEAR(j["x_at_peak_mm"].get<double>(), truth.table_xpi_mm[0], 0.1);
+  EXPECT_LT(j["model_rmse_N"].get<double>(), 0.01);
+}
+
+}  // namespace
+}  // namespace rig

@@ -1,0 +1,146 @@
+// rigd as a process against rig-sim over Modbus TCP: runs, faults, crashes, access control.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <signal.h>
+#include <sys/stat.h>
+
+#include <fstream>
+
+#include "archive.hpp"
+#include "rig_processes.hpp"
+#include "sim_panel.hpp"
+
+namespace rig {
+namespace {
+
+using nlohmann::json;
+using testing::RigProcesses;
+using testing::ScratchDir;
+
+const std::string kRun = R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"post_mortem_h":1.5,"meta":{"temperature_C":"21"}})";
+
+TEST(RigdEndToEnd, ACutThroughTheApiIsArchivedCompleteWithItsMetadata) {
+  ScratchDir dir("e2e-cut");
+  RigProcesses rig(dir);
+  std::string why;
+  ASSERT_TRUE(rig.prepare(why)) << why;
+  const auto reply = rig.api().post("/api/run", kRun);
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const std::int64_t run_id = json::parse(reply.body)["run_id"];
+  ASSERT_TRUE(rig.wait_state("Done", 60)) << rig.status().dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const json detail = json::parse(rig.api().get("/api/runs/" + std::to_string(run_id)).body);
+  EXPECT_EQ(detail["run"]["outcome"], "completed");
+  EXPECT_GE(detail["run"]["samples"].get<int>(), 5000);
+  EXPECT_EQ(detail["meta"]["temperature_C"], "21");
+  EXPECT_EQ(detail["meta"]["post_mortem_h"], "1.5");
+  EXPECT_FALSE(detail["meta"]["config_hash"].get<std::string>().empty());
+  const auto csv = rig.api().get("/api/runs/" + std::to_string(run_id) + "/csv");
+  EXPECT_NE(csv.body.find("# eye_id: E07"), std::string::npos);
+  EXPECT_NE(csv.body.find("t_s,x_mm,force_N,iop_meas_mmHg"), std::string::npos);
+}
+
+TEST(RigdEndToEnd, ARunIsRefusedWhileNotHomedWithTheReasonInWords) {
+  ScratchDir dir("e2e-refuse");
+  RigProcesses rig(dir);
+  const auto reply = rig.api().post("/api/run", kRun);
+  EXPECT_EQ(reply.status, 409);
+  EXPECT_EQ(json::parse(reply.body)["result"], "refused: not allowed in this state");
+  const auto invalid = rig.api().post("/api/run", R"({"eye_id":"E07","iop_mmHg":150,"velocity_mm_s":2,"depth_mm":14})");
+  EXPECT_EQ(invalid.status, 400);
+  EXPECT_EQ(json::parse(invalid.body)["field"], "iop_mmHg");
+}
+
+TEST(RigdEndToEnd, ArchiveSurvivesKill9MidRunLosingAtMost100ms) {
+  ScratchDir dir("e2e-kill9");
+  RigProcesses rig(dir);
+  std::string why;
+  ASSERT_TRUE(rig.prepare(why)) << why;
+  ASSERT_EQ(rig.api().post("/api/run", kRun).status, 200);
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 22.0; }, 30));
+  const json before = rig.status();
+  kill(rig.rigd().pid(), SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  archive::Archive archive(rig.archive_path(), true);
+  const auto run = archive.find_run(1);
+  ASSERT_TRUE(run.has_value());
+  EXPECT_EQ(run->outcome, "recording");
+  const model::RunData data = archive.load_run(1);
+  // Cutting started at the carriage's park position (surface - 2 mm) at 2 mm/s: the samples
+  // reach (almost) the position the status showed just before the kill.
+  ASSERT_GT(data.size(), 1000U);
+  const double last_x = data.x_mm.back() + 20.0;
+  EXPECT_GT(last_x, before["position_mm"].get<double>() - 2.0 * 0.1) << "more than 100 ms of samples lost";
+  rig.start_rigd();  // the next start marks it interrupted, keeping the samples
+  const json runs = json::parse(rig.api().get("/api/runs").body);
+  EXPECT_EQ(runs["runs"][0]["outcome"], "interrupted");
+  EXPECT_EQ(runs["runs"][0]["samples"].get<std::size_t>(), data.size());
+}
+
+TEST(RigdEndToEnd, ALinkDropMidCutFaultsTheRunAndTheDaqWatchdogStopsTheMotor) {
+  ScratchDir dir("e2e-linkdrop");
+  RigProcesses rig(dir);
+  std::string why;
+  ASSERT_TRUE(rig.prepare(why)) << why;
+  testing::SimPanel panel(rig.sim_port());
+  ASSERT_EQ(rig.api().post("/api/run", kRun).status, 200);
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; }, 30));
+  ASSERT_TRUE(panel.motor_powered());
+  const double dropped_at = panel.sim_time_s();
+  panel.set(proto::daq::sim_panel::kLinkDrop, 50);  // 500 ms without answers
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  testing::SimPanel after(rig.sim_port());
+  EXPECT_FALSE(after.motor_powered());
+  // rigd's last command reached the rig at most one request before the drop; the DAQ's
+  // watchdog (daq.watchdog_ms = 5) then removes motor power.
+  EXPECT_LE(after.motor_off_time_s() - dropped_at, 0.005 + 0.002);
+  ASSERT_TRUE(rig.wait_state("Fault", 5));
+  EXPECT_NE(rig.status()["fault"].get<std::string>().find("DAQ link lost"), std::string::npos);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  const json runs = json::parse(rig.api().get("/api/runs").body);
+  EXPECT_EQ(runs["runs"][0]["outcome"], "fault");
+  EXPECT_GT(runs["runs"][0]["samples"].get<int>(), 2000);
+}
+
+TEST(RigdEndToEnd, UnauthenticatedMotionOverANonLoopbackBindIsRefusedAndLogged) {
+  ScratchDir dir("e2e-auth");
+  const std::string token = "0123456789abcdef0123456789abcdef";
+  std::ofstream(dir.file("token")) << token << "\n";
+  chmod(dir.file("token").c_str(), 0600);
+  RigProcesses rig(dir, {}, {"api.bind=\"127.0.0.2\"", "api.token_file=\"" + dir.file("token") + "\""});
+  EXPECT_EQ(rig.api().post("/api/home").status, 401);
+  EXPECT_EQ(rig.api("wrong-token-wrong-token").post("/api/home").status, 401);
+  EXPECT_EQ(rig.api().post("/api/run", kRun).status, 401);
+  EXPECT_EQ(rig.api().get("/api/status").status, 401);
+  EXPECT_EQ(rig.api().post("/api/stop").status, 200);  // making the rig safe is always allowed
+  EXPECT_EQ(rig.api(token).post("/api/home").status, 200);
+  EXPECT_NE(rig.rigd().log_tail(4000).find("refused POST /api/home without a valid token"), std::string::npos);
+}
+
+TEST(RigdEndToEnd, ATokenFileReadableByOthersStopsRigdFromStarting) {
+  ScratchDir dir("e2e-token-mode");
+  std::ofstream(dir.file("token")) << "0123456789abcdef0123456789abcdef\n";
+  chmod(dir.file("token").c_str(), 0644);
+  EXPECT_THROW(RigProcesses(dir, {}, {"api.bind=\"127.0.0.2\"", "api.token_file=\"" + dir.file("token") + "\""}), std::runtime_error);
+}
+
+TEST(RigdEndToEnd, AnOversizedOrMalformedBodyIsRefusedWithoutHarm) {
+  ScratchDir dir("e2e-body");
+  RigProcesses rig(dir);
+  EXPECT_EQ(rig.api().post("/api/run", std::string(200000, 'x')).status, 413);
+  const auto bad = rig.api().post("/api/run", "{not json");
+  EXPECT_EQ(bad.status, 400);
+  EXPECT_NE(json::parse(bad.body)["error"].get<std::string>().find("not valid JSON"), std::string::npos);
+  EXPECT_EQ(rig.api().get("/api/status").status, 200);
+}
+
+TEST(RigdEndToEnd, ABadConfigValueStopsRigdWithTheKeyNamed) {
+  ScratchDir dir("e2e-badconfig");
+  cli::ChildProcess rigd({testing::bin("rigd"), "--config", testing::source("config/rigd.sim.toml"), "--set", "safety.force_limit_N=-1"}, dir.file("rigd.log"));
+  for (int i = 0; i < 200 && rigd.running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_FALSE(rigd.running());
+  EXPECT_NE(rigd.log_tail().find("--set safety.force_limit_N=-1: key 'safety.force_limit_N': -1 is out of range"), std::string::npos) << rigd.log_tail();
+}
+
+}  // namespace
+}  // namespace rig

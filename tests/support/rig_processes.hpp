@@ -1,0 +1,79 @@
+#pragma once
+// rig-sim and rigd as real processes on loopback (free ports), for end-to-end tests.
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "api_client.hpp"
+#include "child_process.hpp"
+#include "test_paths.hpp"
+
+namespace rig::testing {
+
+class RigProcesses {
+ public:
+  explicit RigProcesses(const ScratchDir& dir, std::vector<std::string> sim_args = {},
+                        std::vector<std::string> rigd_sets = {}) : dir_(&dir) {
+    std::vector<std::string> sim = {bin("rig-sim"), "--port", "0"};
+    sim.insert(sim.end(), sim_args.begin(), sim_args.end());
+    sim_ = std::make_unique<cli::ChildProcess>(sim, dir.file("rig-sim.log"));
+    const std::string line = sim_->wait_for_line("listening on", 10000);
+    sim_port_ = std::stoi(line.substr(line.rfind(':') + 1));
+    rigd_sets_ = std::move(rigd_sets);
+    start_rigd();
+  }
+
+  void start_rigd() {
+    std::vector<std::string> args = {bin("rigd"), "--config", source("config/rigd.sim.toml"),
+                                     "--set", "daq.port=" + std::to_string(sim_port_), "--set", "api.port=0",
+                                     "--set", "archive.path=\"" + archive_path() + "\""};
+    for (const auto& s : rigd_sets_) args.insert(args.end(), {"--set", s});
+    rigd_ = std::make_unique<cli::ChildProcess>(args, dir_->file("rigd-" + std::to_string(++rigd_starts_) + ".log"));
+    const std::string ready = rigd_->wait_for_line("ready, API on", 20000);
+    url_ = ready.substr(ready.find("http://"));
+  }
+
+  cli::ApiClient api(const std::string& token = "") const { return cli::ApiClient(url_, token); }
+  cli::ChildProcess& rigd() { return *rigd_; }
+  cli::ChildProcess& sim() { return *sim_; }
+  int sim_port() const { return sim_port_; }
+  std::string archive_path() const { return dir_->file("archive.sqlite"); }
+  const std::string& url() const { return url_; }
+
+  nlohmann::json status() const { return nlohmann::json::parse(api().get("/api/status").body); }
+  bool wait(const std::function<bool(const nlohmann::json&)>& done, double timeout_s) const {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+    while (std::chrono::steady_clock::now() < end) {
+      if (done(status())) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+    return false;
+  }
+  bool wait_state(const std::string& state, double timeout_s) const {
+    return wait([&](const nlohmann::json& s) { return s["state"] == state; }, timeout_s);
+  }
+  // Home and tare; returns false (with the status in `why`) if the rig did not get there.
+  bool prepare(std::string& why) const {
+    api().post("/api/home");
+    if (!wait_state("Ready", 60)) return why = status().dump(), false;
+    api().post("/api/tare");
+    if (!wait([](const nlohmann::json& s) { return s["tared"] == true; }, 10)) return why = status().dump(), false;
+    return true;
+  }
+
+ private:
+  const ScratchDir* dir_;
+  std::unique_ptr<cli::ChildProcess> sim_;
+  std::unique_ptr<cli::ChildProcess> rigd_;
+  std::vector<std::string> rigd_sets_;
+  int sim_port_ = 0;
+  int rigd_starts_ = 0;
+  std::string url_;
+};
+
+}  // namespace rig::testing

@@ -1,0 +1,96 @@
+// The SQLite archive: runs, samples, events, export and import.
+#include <gtest/gtest.h>
+
+#include "archive.hpp"
+#include "run_csv.hpp"
+#include "test_paths.hpp"
+
+namespace rig::archive {
+namespace {
+
+rt::Sample sample(std::int64_t run_id, std::uint64_t cycle, double position_mm, double force_N) {
+  rt::Sample s;
+  s.run_id = run_id;
+  s.cycle = cycle;
+  s.t_s = 10.0 + static_cast<double>(cycle) * 1e-3;
+  s.position_mm = position_mm;
+  s.force_N = force_N;
+  s.iop_mmHg = 15.0;
+  return s;
+}
+
+TEST(Archive, ARecordedRunLoadsAsRunCsvDataFromFirstContact) {
+  testing::ScratchDir dir("archive");
+  Archive a(dir.file("a.sqlite"));
+  NewRun run;
+  run.eye_id = "E07";
+  run.surface_mm = 20.0;
+  run.post_mortem_h = 1.5;
+  run.meta = {{"temperature_C", "21"}};
+  const std::int64_t id = a.create_run(run);
+  a.mark_started(id);
+  a.begin();
+  for (std::uint64_t i = 0; i < 100; ++i) a.append_sample(sample(id, 500 + i, 19.0 + 0.02 * static_cast<double>(i), 0.001 * static_cast<double>(i)));
+  a.add_event(id, 10.05, "contact", "20.0");
+  a.commit();
+  a.finish_run(id, "completed", "");
+  const model::RunData data = a.load_run(id);
+  ASSERT_EQ(data.size(), 100U);
+  EXPECT_DOUBLE_EQ(data.t_s[0], 0.0);
+  EXPECT_NEAR(data.x_mm[0], -1.0, 1e-12);
+  EXPECT_NEAR(data.t_s[99], 0.099, 1e-9);
+  EXPECT_EQ(data.text("eye_id"), "E07");
+  EXPECT_EQ(data.number("post_mortem_h"), 1.5);
+  EXPECT_EQ(data.text("temperature_C"), "21");
+  EXPECT_EQ(data.text("outcome"), "completed");
+  EXPECT_NE(data.channel("iop_meas_mmHg"), nullptr);
+  EXPECT_EQ(a.run_events(id).size(), 1U);
+  EXPECT_EQ(a.find_run(id)->samples, 100);
+}
+
+TEST(Archive, RunsLeftRecordingAreMarkedInterruptedAndKeepTheirSamples) {
+  testing::ScratchDir dir("archive-crash");
+  std::int64_t id = 0;
+  {
+    Archive a(dir.file("a.sqlite"));
+    id = a.create_run(NewRun{});
+    a.mark_started(id);
+    a.begin();
+    for (std::uint64_t i = 0; i < 10; ++i) a.append_sample(sample(id, i, 1.0, 0.0));
+    a.commit();
+    a.begin();
+    a.append_sample(sample(id, 10, 1.0, 0.0));  // never committed: lost with the "crash"
+  }
+  Archive b(dir.file("a.sqlite"));
+  EXPECT_EQ(b.recover_interrupted(), 1);
+  const auto row = b.find_run(id);
+  EXPECT_EQ(row->outcome, "interrupted");
+  EXPECT_EQ(row->samples, 10);
+}
+
+TEST(Archive, ImportedFilesExportAgainWithTheirMetadataAndChannels) {
+  testing::ScratchDir dir("archive-import");
+  Archive a(dir.file("a.sqlite"));
+  const model::RunData needle = model::read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const std::int64_t id = a.import_run(needle);
+  const model::RunData back = a.load_run(id);
+  EXPECT_EQ(back.size(), needle.size());
+  EXPECT_EQ(back.x_mm, needle.x_mm);
+  EXPECT_EQ(back.force_N, needle.force_N);
+  EXPECT_EQ(back.text("source_doi"), needle.text("source_doi"));
+  EXPECT_EQ(back.text("outcome"), "imported");
+}
+
+TEST(Archive, AMissingRunIsAnErrorNamingIt) {
+  testing::ScratchDir dir("archive-missing");
+  Archive a(dir.file("a.sqlite"));
+  try {
+    a.load_run(77);
+    FAIL();
+  } catch (const ArchiveError& e) {
+    EXPECT_NE(std::string(e.what()).find("no run 77"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace rig::archive

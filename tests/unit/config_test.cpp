@@ -1,0 +1,95 @@
+// rigd's config: every error names the file, the line and the key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+#include "rig/config/config_error.hpp"
+#include "rig/config/rigd_config.hpp"
+#include "test_paths.hpp"
+
+namespace rig::config {
+namespace {
+
+std::string message_for(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  testing::ScratchDir dir("config");
+  const std::string path = dir.file("rigd.toml");
+  std::ofstream(path) << text;
+  try {
+    load_rigd_config(path, overrides);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Config, TheShippedSimulatorConfigIsValid) {
+  const RigdConfig c = load_rigd_config(testing::source("config/rigd.sim.toml"));
+  EXPECT_EQ(c.loop.rate_hz, 1000.0);
+  EXPECT_EQ(c.daq.modbus.port, 1502);
+  EXPECT_EQ(c.hash.size(), 16U);
+}
+
+TEST(Config, TheShippedRigConfigIsValid) {
+  const RigdConfig c = load_rigd_config(testing::source("config/rigd.toml"));
+  EXPECT_EQ(c.api.bind, "127.0.0.1");
+}
+
+TEST(Config, AnUnknownKeyIsAnErrorNamingFileLineAndKey) {
+  const std::string m = message_for("[loop]\nrate_hz = 1000\nrte_hz = 2\n");
+  EXPECT_NE(m.find("rigd.toml:3"), std::string::npos) << m;
+  EXPECT_NE(m.find("unknown key 'loop.rte_hz'"), std::string::npos) << m;
+}
+
+TEST(Config, AnOutOfRangeValueNamesTheKeyAndTheRange) {
+  const std::string m = message_for("[loop]\n\nrate_hz = 20000\n");
+  EXPECT_NE(m.find("rigd.toml:3"), std::string::npos) << m;
+  EXPECT_NE(m.find("'loop.rate_hz'"), std::string::npos) << m;
+  EXPECT_NE(m.find("out of range [1000, 10000]"), std::string::npos) << m;
+}
+
+TEST(Config, AWrongTypeNamesTheExpectedType) {
+  const std::string m = message_for("[daq]\nport = \"1502\"\n");
+  EXPECT_NE(m.find("'daq.port': expected an integer"), std::string::npos) << m;
+}
+
+TEST(Config, AnUnknownChoiceListsTheAllowedOnes) {
+  const std::string m = message_for("[daq]\ntransport = \"udp\"\n");
+  EXPECT_NE(m.find("'udp' is not one of: tcp, rtu"), std::string::npos) << m;
+}
+
+TEST(Config, ATomlSyntaxErrorNamesTheLine) {
+  const std::string m = message_for("[loop]\nrate_hz = = 3\n");
+  EXPECT_NE(m.find("rigd.toml:2"), std::string::npos) << m;
+}
+
+TEST(Config, ANonLoopbackBindWithoutATokenFileIsRefused) {
+  const std::string m = message_for("[api]\nbind = \"0.0.0.0\"\n");
+  EXPECT_NE(m.find("'api.token_file' is required"), std::string::npos) << m;
+}
+
+TEST(Config, AResponseTimeoutLongerThanTheLoopPeriodIsRefused) {
+  const std::string m = message_for("[loop]\nrate_hz = 5000\n[daq]\nresponse_timeout_us = 700\n");
+  EXPECT_NE(m.find("'daq.response_timeout_us'"), std::string::npos) << m;
+}
+
+TEST(Config, OverridesAreCheckedLikeTheFileAndNamed) {
+  EXPECT_NE(message_for("", {"loop.rate_hz=99"}).find("--set loop.rate_hz=99"), std::string::npos);
+  EXPECT_NE(message_for("", {"nope=1"}).find("unknown key 'nope'"), std::string::npos);
+  EXPECT_NE(message_for("", {"missing-equals"}).find("expected key=value"), std::string::npos);
+}
+
+TEST(Config, RelativePathsResolveAgainstTheConfigFile) {
+  testing::ScratchDir dir("config-paths");
+  std::ofstream(dir.file("rigd.toml")) << "[archive]\npath = \"data/a.sqlite\"\n";
+  const RigdConfig c = load_rigd_config(dir.file("rigd.toml"));
+  EXPECT_EQ(c.archive.path, (dir.path() / "data/a.sqlite").string());
+}
+
+TEST(Config, EveryKeyIsDocumentedWithItsRange) {
+  const std::string keys = describe_config_keys();
+  EXPECT_NE(keys.find("loop.rate_hz (a number in [1000, 10000]): control and sampling rate [Hz]"), std::string::npos);
+  EXPECT_NE(keys.find("safety.force_limit_N"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rig::config

@@ -1,0 +1,173 @@
+// Every interlock stops the motor within one loop period and keeps the run, measured in the
+// simulated rig's physics on the virtual clock.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "simulated_rig.hpp"
+
+namespace rig {
+namespace {
+
+using rt::CommandKind;
+using rt::FaultCode;
+using rt::RunState;
+
+constexpr double kPeriod_s = 1e-3;
+constexpr double kPhysicsStep_s = 1e-4;
+
+class InterlockTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    rig_.physics().set_watchdog_ms(1);  // the DAQ's own watchdog: one loop period
+    rig_.command(CommandKind::kHome);
+    ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+    rig_.command(CommandKind::kTare);
+    ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
+    rt::RunParams params;
+    params.run_id = 42;
+    ASSERT_EQ(rig_.command(CommandKind::kArm, params), rt::CommandResult::kAccepted);
+    const double surface = rig_.physics().params().tissue.surface_mm;
+    ASSERT_TRUE(rig_.run_until([surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 5.0; }, 30));
+    ASSERT_TRUE(rig_.physics().truth().motor_powered);
+    samples_.clear();
+    events_.clear();
+    rig_.drain(samples_, events_);
+  }
+
+  // Runs until the loop reacts; returns how long after `injected_at` the motor lost power.
+  double motor_off_delay(double injected_at) {
+    rig_.advance(0.05);
+    rig_.drain(samples_, events_);
+    const sim::RigTruth truth = rig_.physics().truth();
+    EXPECT_FALSE(truth.motor_powered);
+    const double delay = truth.motor_off_time_s - injected_at;
+    EXPECT_GE(delay, 0.0) << "the motor must have been powered until the fault";
+    std::cout << "motor off " << delay * 1e3 << " ms after the fault\n";
+    return delay;
+  }
+
+  void expect_run_kept_with(FaultCode fault) {
+    bool ended = false;
+    for (const auto& e : events_) {
+      if (e.kind == rt::EventKind::kRunEnded) {
+        ended = true;
+        EXPECT_EQ(e.run_id, 42);
+        EXPECT_EQ(e.fault, fault);
+      }
+    }
+    EXPECT_TRUE(ended) << "the run must be closed with the fault";
+    ASSERT_GT(samples_.size(), 1000U) << "samples up to the fault are kept";
+    EXPECT_EQ(samples_.back().run_id, 42);
+  }
+
+  sim::SimulatedRig rig_;
+  std::vector<rt::Sample> samples_;
+  std::vector<rt::Event> events_;
+};
+
+TEST_F(InterlockTest, EstopButtonMidCutStopsTheMotorWithinOnePeriod) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().estop_pressed = true;
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().state, RunState::kEStop);
+  expect_run_kept_with(FaultCode::kEstopInput);
+}
+
+TEST_F(InterlockTest, EndLimitSwitchMidCutStopsTheMotorWithinOnePeriod) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().end_limit_forced = true;
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kEndLimit);
+  expect_run_kept_with(FaultCode::kEndLimit);
+}
+
+TEST_F(InterlockTest, HomeLimitSwitchOutsideHomingStopsTheMotorWithinOnePeriod) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().home_limit_forced = true;
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kHomeLimit);
+}
+
+TEST_F(InterlockTest, ForceOverloadStopsTheMotorWithinOnePeriodToProtectTheLoadCell) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().extra_force_N = 3.0;
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  const rt::StatusSnapshot st = rig_.status();
+  EXPECT_EQ(st.fault, FaultCode::kForceLimit);
+  EXPECT_GT(st.fault_value, 2.0);
+  expect_run_kept_with(FaultCode::kForceLimit);
+}
+
+TEST_F(InterlockTest, DaqLinkLossMidCutLeavesTheMotorOffWithinOnePeriodAndFaults) {
+  const double t = rig_.physics().time_s();  // the last command reached the rig at t
+  rig_.daq().inject(drivers::IoStatus::kLinkDown);
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);  // the DAQ's watchdog
+  EXPECT_EQ(rig_.status().fault, FaultCode::kLinkLost);
+  expect_run_kept_with(FaultCode::kLinkLost);
+}
+
+TEST_F(InterlockTest, AStuckForceChannelWhileCuttingFaultsTheRun) {
+  rig_.physics().faults().stuck_force = true;
+  rig_.advance(0.2);
+  rig_.drain(samples_, events_);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kStuckForce);
+  EXPECT_FALSE(rig_.physics().truth().motor_powered);
+  expect_run_kept_with(FaultCode::kStuckForce);
+}
+
+TEST_F(InterlockTest, AnOverrunStormStopsTheMotor) {
+  for (int i = 0; i < 8; ++i) {
+    rig_.clock().add_wakeup_delay(3'000'000);  // wake up 3 ms late
+    rig_.loop().run_for(rig_.loop().period_ns());
+  }
+  rig_.advance(0.01);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kOverrunStorm);
+  EXPECT_FALSE(rig_.physics().truth().motor_powered);
+  EXPECT_GE(rig_.channels().counters.overruns.load(), 5U);
+}
+
+TEST_F(InterlockTest, ASingleLateWakeUpIsCountedButDoesNotFaultTheRun) {
+  rig_.clock().add_wakeup_delay(3'000'000);
+  rig_.advance(0.05);
+  EXPECT_EQ(rig_.status().state, RunState::kCutting);
+  EXPECT_EQ(rig_.channels().counters.overruns.load(), 1U);
+}
+
+TEST_F(InterlockTest, AfterAFaultOnlyAnExplicitResetLeavesFaultAndHomingIsNeededAgain) {
+  rig_.physics().faults().extra_force_N = 3.0;
+  rig_.advance(0.01);
+  rig_.physics().faults().extra_force_N = 0.0;
+  rig_.advance(1.0);
+  EXPECT_EQ(rig_.status().state, RunState::kFault);
+  EXPECT_EQ(rig_.command(CommandKind::kHome), rt::CommandResult::kFaulted);
+  EXPECT_EQ(rig_.command(CommandKind::kReset), rt::CommandResult::kAccepted);
+  EXPECT_EQ(rig_.status().state, RunState::kIdle);
+  EXPECT_FALSE(rig_.status().homed);
+  EXPECT_EQ(rig_.command(CommandKind::kArm, rt::RunParams{}), rt::CommandResult::kWrongState);
+}
+
+TEST_F(InterlockTest, AnEstopStaysLatchedWhileTheButtonIsPressed) {
+  rig_.physics().faults().estop_pressed = true;
+  rig_.advance(0.01);
+  EXPECT_EQ(rig_.command(CommandKind::kReset), rt::CommandResult::kEstopPressed);
+  EXPECT_EQ(rig_.status().state, RunState::kEStop);
+  rig_.physics().faults().estop_pressed = false;
+  EXPECT_EQ(rig_.command(CommandKind::kReset), rt::CommandResult::kAccepted);
+  EXPECT_EQ(rig_.status().state, RunState::kIdle);
+}
+
+TEST_F(InterlockTest, StopMidCutStopsTheMotorAndEndsTheRunAsStopped) {
+  const double t = rig_.physics().time_s();
+  EXPECT_EQ(rig_.command(CommandKind::kStop), rt::CommandResult::kAccepted);
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().state, RunState::kDone);
+  bool stopped = false;
+  for (const auto& e : events_) stopped = stopped || (e.kind == rt::EventKind::kRunEnded && e.value > 0.5);
+  EXPECT_TRUE(stopped);
+  // The blade is still in the eye: a new run needs homing first.
+  EXPECT_EQ(rig_.command(CommandKind::kArm, rt::RunParams{}), rt::CommandResult::kNotAtPark);
+}
+
+}  // namespace
+}  // namespace rig
