@@ -50,6 +50,12 @@ double ForceModel::baseline(double x_mm, double iop_mmHg) const {
   return form == ModelForm::kPrinted ? as_printed(x_mm, iop_mmHg) : continuous(x_mm, iop_mmHg);
 }
 
+double ForceModel::baseline(double x_mm, double front_mm, double iop_mmHg) const {
+  if (x_mm >= front_mm || form == ModelForm::kPrinted) return baseline(x_mm, iop_mmHg);
+  const double release = std::max(0.0, 1.0 - (front_mm - x_mm) / std::max(params.w_release, 1e-4));
+  return baseline(front_mm, iop_mmHg) * release;
+}
+
 double cutting_plateau(const ContinuousParams& p, double x_mm, double iop_mmHg) {
   const double arg = std::max(x_mm - p.e, 1e-3);
   return p.d * (std::log(arg) - p.f * x_mm) + p.g * iop_mmHg + p.g0;

@@ -31,6 +31,7 @@ struct ContinuousParams {
   double a = 0.0066, x1 = 0.75, b = 0.078;
   double d = -0.004, e = 3.282, f = -0.495, g = 0.02, g0 = -0.114;
   double x_c = 6.89, w_drop = 0.05;
+  double w_release = 0.2;   // withdrawal over which the force at the deepest point is released [mm]
   double x_pi_shift = 0.0, x_pf_shift = 0.0;  // fitted shifts of the Table-1 depths [mm]
 };
 
@@ -63,6 +64,9 @@ class ForceModel {
 
   // Insertion force at depth x [mm] from the corneal surface for an IOP [mmHg] [N].
   double baseline(double x_mm, double iop_mmHg) const;
+  // Force with the blade at x after reaching `front` [mm]: held at depth it keeps the force
+  // reached there, withdrawn it releases it over w_release (continuous form only).
+  double baseline(double x_mm, double front_mm, double iop_mmHg) const;
   double puncture_depth_mm(double iop_mmHg) const;
   double final_depth_mm(double iop_mmHg) const;
   bool extrapolates(double iop_mmHg) const;

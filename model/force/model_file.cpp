@@ -84,7 +84,7 @@ void read_table(const Reader& r, const toml::table& t, ForceModel& m) {
 }
 
 void read_parameters(const Reader& r, const toml::table& t, ContinuousParams& p) {
-  r.only(t, "parameters", {"a", "x1", "b", "d", "e", "f", "g", "g0", "x_c", "w_drop", "x_pi_shift", "x_pf_shift"});
+  r.only(t, "parameters", {"a", "x1", "b", "d", "e", "f", "g", "g0", "x_c", "w_drop", "w_release", "x_pi_shift", "x_pf_shift"});
   const std::string s = "parameters";
   p.a = r.number(t, s, "a", p.a);
   p.x1 = r.number(t, s, "x1", p.x1);
@@ -96,6 +96,7 @@ void read_parameters(const Reader& r, const toml::table& t, ContinuousParams& p)
   p.g0 = r.number(t, s, "g0", p.g0);
   p.x_c = r.number(t, s, "x_c", p.x_c);
   p.w_drop = r.number(t, s, "w_drop", p.w_drop);
+  p.w_release = r.number(t, s, "w_release", p.w_release);
   p.x_pi_shift = r.number(t, s, "x_pi_shift", 0.0);
   p.x_pf_shift = r.number(t, s, "x_pf_shift", 0.0);
   if (p.w_drop <= 0.0) r.fail(t.get("w_drop"), "parameters.w_drop", "must be > 0");
@@ -182,7 +183,7 @@ void ForceModel::save(const std::string& out_path) const {
   if (form == ModelForm::kContinuous) {
     const ContinuousParams& p = params;
     root.insert("parameters", toml::table{{"a", p.a}, {"x1", p.x1}, {"b", p.b}, {"d", p.d}, {"e", p.e}, {"f", p.f},
-                                          {"g", p.g}, {"g0", p.g0}, {"x_c", p.x_c}, {"w_drop", p.w_drop},
+                                          {"g", p.g}, {"g0", p.g0}, {"x_c", p.x_c}, {"w_drop", p.w_drop}, {"w_release", p.w_release},
                                           {"x_pi_shift", p.x_pi_shift}, {"x_pf_shift", p.x_pf_shift}});
   } else {
     toml::array names;

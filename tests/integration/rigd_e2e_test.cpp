@@ -57,7 +57,7 @@ TEST(RigdEndToEnd, ArchiveSurvivesKill9MidRunLosingAtMost100ms) {
   std::string why;
   ASSERT_TRUE(rig.prepare(why)) << why;
   ASSERT_EQ(rig.api().post("/api/run", kRun).status, 200);
-  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 22.0; }, 30));
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 22.0; }, 30)) << rig.status().dump();
   const json before = rig.status();
   kill(rig.rigd().pid(), SIGKILL);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
@@ -84,7 +84,7 @@ TEST(RigdEndToEnd, ALinkDropMidCutFaultsTheRunAndTheDaqWatchdogStopsTheMotor) {
   ASSERT_TRUE(rig.prepare(why)) << why;
   testing::SimPanel panel(rig.sim_port());
   ASSERT_EQ(rig.api().post("/api/run", kRun).status, 200);
-  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; }, 30));
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; }, 30)) << rig.status().dump();
   ASSERT_TRUE(panel.motor_powered());
   const double dropped_at = panel.sim_time_s();
   panel.set(proto::daq::sim_panel::kLinkDrop, 50);  // 500 ms without answers

@@ -26,7 +26,6 @@ constexpr double kRelaxPowerTau_s = 0.3;
 constexpr double kRelaxPower = 0.15;
 constexpr double kCovariatePerUnit = 0.08;      // cutting force change per covariate unit
 constexpr double kCovariateReference = 2.0;
-constexpr double kHoldSpeed_mm_s = 0.05;
 
 double interpolate(const double* xs, const double* ys, int n, double x) {
   if (x <= xs[0]) return ys[0];
@@ -120,7 +119,8 @@ double TissueTruth::scaled_by_effects(double force, double tip_mm) const {
   const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
   if (stick.on && punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm &&
       tip_mm >= front_mm_ - 1e-3) {
-    const double cycles = tip_mm / kStickSlipPeriod_mm + stick.phase_rad / (2.0 * std::numbers::pi);
+    // Tearing starts at the puncture: its phase is locked to where the blade entered.
+    const double cycles = (tip_mm - punctured_at_mm_) / kStickSlipPeriod_mm;
     force += kStickSlipAmplitude_N * stick.size * periodic(stick.form == 0, cycles);
   }
   return force;
@@ -143,10 +143,15 @@ double TissueTruth::force_at(double tip_mm, double iop_mmHg) const {
   double force = 0.0;
   if (!punctured_ && tip_mm < puncture_depth_mm(iop_mmHg)) {
     force = elastic_force(tip_mm, iop_mmHg);
-  } else if (tip_mm >= front_mm_ - 1e-3 || !punctured_) {
-    force = cutting_force(tip_mm, iop_mmHg);
-    if (tip_mm < p_.cut_end_mm) force += tear_N_;
-  }  // else: withdrawn inside its own cut, nothing pushes back
+  } else {
+    // Behind the deepest point the cut edge releases elastically over release_width_mm:
+    // a held blade keeps its force, a withdrawn one slides back in its own cut.
+    const double behind = std::max(0.0, front_mm_ - tip_mm);
+    const double at = std::max(tip_mm, front_mm_);
+    force = cutting_force(at, iop_mmHg);
+    if (at < p_.cut_end_mm) force += tear_N_;
+    force *= std::max(0.0, 1.0 - behind / p_.release_width_mm);
+  }
   return scaled_by_effects(force, tip_mm);
 }
 
@@ -172,8 +177,15 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   if (input.velocity_mm_s > 0.1) {
     advance_velocity_mm_s_ += (input.velocity_mm_s - advance_velocity_mm_s_) * std::min(1.0, input.dt_s / 0.02);
   }
-  const bool at_front = tip > 0.0 && tip >= front_mm_ - 0.01;
-  hold_s_ = (at_front && std::abs(input.velocity_mm_s) < kHoldSpeed_mm_s) ? hold_s_ + input.dt_s : 0.0;
+  // Held: the blade neither advances past its deepest point nor withdraws from it by more
+  // than 50 um (servo jitter of a few um does not end a hold).
+  // The tissue stays relaxed while the blade is withdrawn; only a new advance reloads it.
+  const bool held = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - 0.05;
+  if (held) {
+    hold_s_ += input.dt_s;
+  } else if (tip > front_mm_) {
+    hold_s_ = 0.0;
+  }
   if (tip > front_mm_) {
     const double advanced = tip - front_mm_;
     front_mm_ = tip;

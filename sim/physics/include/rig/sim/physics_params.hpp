@@ -64,6 +64,7 @@ struct TissueParams {
   double cut_offset_N = -0.114;         // plateau offset below the puncture peak
   double cut_end_mm = 6.89;             // start of unloading
   double drop_width_mm = 0.05;          // puncture drop from peak to plateau
+  double release_width_mm = 0.2;        // force released over this withdrawal from the front
   // Table 1 of the paper: puncture and final depth against IOP [mmHg -> mm].
   double table_iop_mmHg[4] = {15, 16, 17, 18};
   double table_xpi_mm[4] = {3.55, 3.75, 3.96, 4.30};

@@ -1,0 +1,119 @@
+#include "cross_validation.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+namespace rig::model {
+namespace {
+
+constexpr int kBlocks = 5;
+
+double lag1(const std::vector<double>& r) {
+  double num = 0.0, den = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    den += r[i] * r[i];
+    if (i > 0) num += r[i] * r[i - 1];
+  }
+  return den > 0.0 ? std::clamp(num / den, 0.0, 0.99) : 0.0;
+}
+
+void add_run(CvResult& out, std::vector<double> residual) {
+  double sse = 0.0;
+  for (const double r : residual) sse += r * r;
+  out.run_sse.push_back(sse);
+  out.run_n.push_back(residual.size());
+  out.run_rho.push_back(lag1(residual));
+  out.residuals.push_back(std::move(residual));
+}
+
+void finish(CvResult& out) {
+  double sse = 0.0;
+  std::size_t n = 0;
+  for (std::size_t r = 0; r < out.run_sse.size(); ++r) sse += out.run_sse[r], n += out.run_n[r];
+  out.rmse_N = n > 0 ? std::sqrt(sse / static_cast<double>(n)) : 0.0;
+}
+
+std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
+
+// One run, no other runs to learn from: folds are time blocks of the run itself.
+CvResult within_run(const Predictor& predictor, const PreparedRun& run, const ModelParams& start) {
+  CvResult out;
+  out.full = Fitter(predictor, {&run}).fit(start);
+  std::vector<double> residual(run.analysed.size());
+  for (std::size_t b = 0; b < kBlocks; ++b) {
+    PreparedRun train = run;
+    train.fit_rows.clear();
+    std::vector<std::size_t> test;
+    for (std::size_t k = 0; k < run.analysed.size(); ++k) {
+      (block_of(k, run.analysed.size()) == b ? test : train.fit_rows).push_back(run.analysed[k]);
+    }
+    const FitResult fit = Fitter(predictor, {&train}).fit(out.full.params, 80);
+    Eigen::VectorXd beta;
+    Fitter::residuals(predictor, train, fit.params, train.fit_rows, &beta);
+    std::vector<double> prediction;
+    Eigen::MatrixXd X;
+    predictor.evaluate(run, fit.params, test, prediction, predictor.linear_columns() > 0 ? &X : nullptr);
+    std::size_t n = 0;
+    for (std::size_t k = 0; k < run.analysed.size(); ++k) {
+      if (block_of(k, run.analysed.size()) != b) continue;
+      double r = run.data->force_N[run.analysed[k]] - prediction[n];
+      if (beta.size() > 0) r -= X.row(static_cast<Eigen::Index>(n)).dot(beta);
+      residual[k] = r;
+      ++n;
+    }
+  }
+  add_run(out, std::move(residual));
+  finish(out);
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params) {
+  std::vector<double> prediction;
+  Eigen::MatrixXd X;
+  const bool linear = predictor.linear_columns() > 0;
+  predictor.evaluate(run, params, run.analysed, prediction, linear ? &X : nullptr);
+  const std::size_t n = run.analysed.size();
+  std::vector<double> residual(n);
+  for (std::size_t k = 0; k < n; ++k) residual[k] = run.data->force_N[run.analysed[k]] - prediction[k];
+  if (!linear) return residual;
+  const Eigen::Map<const Eigen::VectorXd> r(residual.data(), static_cast<Eigen::Index>(n));
+  std::vector<double> out(n);
+  for (std::size_t b = 0; b < kBlocks; ++b) {
+    std::vector<Eigen::Index> train;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (block_of(k, n) != b) train.push_back(static_cast<Eigen::Index>(k));
+    }
+    const Eigen::MatrixXd Xt = X(train, Eigen::all);
+    const Eigen::VectorXd rt = r(train);
+    const Eigen::VectorXd beta = solve_linear(Xt, rt);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (block_of(k, n) == b) out[k] = residual[k] - X.row(static_cast<Eigen::Index>(k)).dot(beta);
+    }
+  }
+  return out;
+}
+
+CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& start,
+                        int max_folds) {
+  if (runs.size() == 1) return within_run(predictor, *runs.front(), start);
+  CvResult out;
+  out.full = Fitter(predictor, runs).fit(start);
+  const std::size_t folds = std::min<std::size_t>(static_cast<std::size_t>(max_folds), runs.size());
+  std::vector<std::vector<double>> residuals(runs.size());
+  for (std::size_t f = 0; f < folds; ++f) {
+    std::vector<const PreparedRun*> train;
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      if (r % folds != f) train.push_back(runs[r]);
+    }
+    const FitResult fit = Fitter(predictor, train).fit(out.full.params, 80);
+    for (std::size_t r = f; r < runs.size(); r += folds) residuals[r] = held_out_residuals(predictor, *runs[r], fit.params);
+  }
+  for (auto& residual : residuals) add_run(out, std::move(residual));
+  finish(out);
+  return out;
+}
+
+}  // namespace rig::model

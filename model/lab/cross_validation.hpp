@@ -1,0 +1,29 @@
+#pragma once
+// Cross-validated error of a model family on runs. Shared parameters are fitted on the
+// training runs and judged on held-out runs (leave-runs-out, up to 5 folds); per-run
+// coefficients of instrument effects are fitted on the held-out run's own data by blocked
+// CV inside the run (5 contiguous time blocks), so they never see the samples they predict.
+// With a single run, the folds are time blocks of that run.
+#include <vector>
+
+#include "fitter.hpp"
+#include "predictor.hpp"
+
+namespace rig::model {
+
+struct CvResult {
+  double rmse_N = 0.0;
+  std::vector<double> run_sse;
+  std::vector<std::size_t> run_n;
+  std::vector<double> run_rho;                 // lag-1 autocorrelation of the CV residuals
+  std::vector<std::vector<double>> residuals;  // per run, over its analysed samples
+  FitResult full;                              // the fit on all runs
+};
+
+CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& start,
+                        int max_folds = 5);
+
+// Residuals of a held-out run: shared parameters given, per-run coefficients by blocked CV.
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params);
+
+}  // namespace rig::model

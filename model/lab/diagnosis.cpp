@@ -1,0 +1,137 @@
+#include "diagnosis.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <future>
+#include <set>
+
+#include "model_family.hpp"
+
+namespace rig::model {
+namespace {
+
+constexpr double kMinGainPct = 2.0;
+constexpr double kMinRunsImproved = 0.6;
+constexpr double kMaxDeltaBic = -10.0;
+
+std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv, const std::vector<const PreparedRun*>& runs) {
+  std::array<double, kPhaseCount> sse{};
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    for (std::size_t k = 0; k < runs[r]->analysed.size(); ++k) {
+      const double e = cv.residuals[r][k];
+      sse[static_cast<std::size_t>(runs[r]->seg.phase[runs[r]->analysed[k]])] += e * e;
+    }
+  }
+  return sse;
+}
+
+int parameter_count(const std::string& name, const EffectCatalogue& catalogue, std::size_t runs) {
+  const auto term = catalogue.make(name);
+  return static_cast<int>(term->shared_params().size()) + term->linear_columns() * static_cast<int>(runs);
+}
+
+void score(CandidateResult& c, const CvResult& base, const CvResult& cv, int parameters) {
+  c.cv_rmse_N = cv.rmse_N;
+  c.gain_pct = base.rmse_N > 0.0 ? 100.0 * (1.0 - cv.rmse_N / base.rmse_N) : 0.0;
+  std::size_t improved = 0;
+  double sse_base = 0.0, sse_cand = 0.0;
+  for (std::size_t r = 0; r < cv.run_sse.size(); ++r) {
+    if (cv.run_sse[r] < 0.995 * base.run_sse[r]) ++improved;
+    sse_base += base.run_sse[r];
+    sse_cand += cv.run_sse[r];
+    const double rho = cv.run_rho[r];
+    c.n_effective += static_cast<double>(cv.run_n[r]) * (1.0 - rho) / (1.0 + rho);
+  }
+  c.runs_improved = cv.run_sse.empty() ? 0.0 : static_cast<double>(improved) / static_cast<double>(cv.run_sse.size());
+  const double n_eff = std::max(c.n_effective, 2.0);
+  c.delta_bic = n_eff * std::log(std::max(sse_cand, 1e-300) / std::max(sse_base, 1e-300)) + parameters * std::log(n_eff);
+  c.significant = c.gain_pct >= kMinGainPct && c.runs_improved >= kMinRunsImproved && c.delta_bic < kMaxDeltaBic;
+}
+
+CandidateResult evaluate(const std::string& name, const ForceModel& model, const EffectCatalogue& catalogue,
+                         const DiagnoseOptions& o, const std::vector<const PreparedRun*>& runs, const CvResult& base) {
+  CandidateResult c;
+  c.effect = name;
+  if (!catalogue.make(name)->applicable(runs, c.not_applicable)) {
+    c.applicable = false;
+    return c;
+  }
+  std::vector<std::string> effects = o.with;
+  effects.push_back(name);
+  const ModelFamily family(model, catalogue, effects);
+  const CvResult cv = family.cross_validate(runs);
+  score(c, base, cv, parameter_count(name, catalogue, runs.size()));
+  const auto before = sse_by_phase(base, runs);
+  const auto after = sse_by_phase(cv, runs);
+  std::size_t best = 0;
+  for (std::size_t p = 1; p < before.size(); ++p) {
+    if (before[p] - after[p] > before[best] - after[best]) best = p;
+  }
+  c.where = phase_name(static_cast<Phase>(best));
+  char numbers[200];
+  std::snprintf(numbers, sizeof numbers, " [CV RMSE %.4f -> %.4f N (%+.1f %%), most in the %s phase, %.0f %% of runs better]",
+                base.rmse_N, cv.rmse_N, -c.gain_pct, c.where.c_str(), 100.0 * c.runs_improved);
+  c.evidence = family.evidence(name, cv.full, runs) + numbers;
+  return c;
+}
+
+}  // namespace
+
+double noise_floor(const std::vector<const PreparedRun*>& runs) {
+  double sum = 0.0;
+  double n = 0.0;
+  for (const PreparedRun* r : runs) {
+    if (r->analysed.size() < 10) continue;
+    const double s = noise_sigma(r->data->force_N, r->analysed.front(), r->analysed.back() + 1);
+    sum += s * s * static_cast<double>(r->analysed.size());
+    n += static_cast<double>(r->analysed.size());
+  }
+  return n > 0.0 ? std::sqrt(sum / n) : 0.0;
+}
+
+Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, const DiagnoseOptions& o) {
+  Diagnosis d;
+  std::vector<PreparedRun> prepared;
+  prepared.reserve(data.size());
+  for (const RunData& r : data) prepared.push_back(prepare_run(r));
+  std::vector<const PreparedRun*> runs;
+  for (const PreparedRun& p : prepared) {
+    runs.push_back(&p);
+    d.warnings.insert(d.warnings.end(), p.warnings.begin(), p.warnings.end());
+  }
+  if (runs.empty()) throw std::invalid_argument("diagnose: no runs");
+  const EffectCatalogue catalogue(model, runs);
+  const ModelFamily base_family(model, catalogue, o.with);
+  d.base_effects = base_family.effect_names();
+  const CvResult base = base_family.cross_validate(runs);
+  d.baseline_cv_rmse_N = base.rmse_N;
+  d.noise_floor_N = noise_floor(runs);
+  std::vector<std::string> names;
+  const std::set<std::string> present(d.base_effects.begin(), d.base_effects.end());
+  for (const std::string& name : catalogue.candidates()) {
+    const bool wanted = o.only.empty() || std::find(o.only.begin(), o.only.end(), name) != o.only.end();
+    if (present.count(name) == 0U && wanted) names.push_back(name);
+  }
+  std::vector<std::future<CandidateResult>> pending;
+  std::size_t next = 0;
+  auto launch = [&] { pending.push_back(std::async(std::launch::async, evaluate, names[next++], std::cref(model), std::cref(catalogue), std::cref(o), std::cref(runs), std::cref(base))); };
+  for (int t = 0; t < std::max(o.threads, 1) && next < names.size(); ++t) launch();
+  for (std::size_t i = 0; i < pending.size(); ++i) {
+    d.candidates.push_back(pending[i].get());
+    if (next < names.size()) launch();
+  }
+  std::stable_sort(d.candidates.begin(), d.candidates.end(), [](const CandidateResult& a, const CandidateResult& b) {
+    if (a.applicable != b.applicable) return a.applicable;
+    return a.cv_rmse_N < b.cv_rmse_N;
+  });
+  for (const CandidateResult& c : d.candidates) {
+    if (c.applicable && c.significant) {
+      d.verdict = c.effect;
+      break;
+    }
+  }
+  return d;
+}
+
+}  // namespace rig::model

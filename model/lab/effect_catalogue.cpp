@@ -1,0 +1,140 @@
+#include "effect_catalogue.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "effects/covariate_scaling.hpp"
+#include "effects/iop_stiffness.hpp"
+#include "effects/mains_interference.hpp"
+#include "effects/rate_dependence.hpp"
+#include "effects/rig_compliance.hpp"
+#include "effects/sensor_drift.hpp"
+#include "effects/shaft_friction.hpp"
+#include "effects/spatial_ripple.hpp"
+#include "effects/stick_slip.hpp"
+#include "effects/stress_relaxation.hpp"
+#include "effects/user_expression.hpp"
+
+namespace rig::model {
+namespace {
+
+// Keys that are bookkeeping or inputs the model already uses: never covariates.
+bool excluded_key(const std::string& key) {
+  static const std::set<std::string> kExcluded = {
+      "iop_mmHg", "velocity_mm_s", "depth_mm", "hold_s", "run_id", "original_run_id", "config_hash",
+      "software_version", "started_at", "outcome", "reason", "source", "rate_hz", "surface_mm",
+      "iop_meas_mmHg", "velocity_meas_mm_s", "displacement_scale"};
+  if (kExcluded.count(key) != 0U) return true;
+  if (key.size() > 3 && key.compare(key.size() - 3, 3, "_id") == 0) return true;
+  return key.find("_cmd_") != std::string::npos;  // the rig's own commands (motor_cmd_V)
+}
+
+std::vector<std::string> candidate_keys(const std::vector<const PreparedRun*>& runs) {
+  std::set<std::string> keys;
+  for (const PreparedRun* r : runs) {
+    for (const auto& [k, v] : r->data->meta) {
+      if (r->data->number(k)) keys.insert(k);
+    }
+    for (const auto& c : r->data->channels) keys.insert(c.name);
+  }
+  std::vector<std::string> out;
+  for (const auto& k : keys) {
+    const bool everywhere = std::all_of(runs.begin(), runs.end(), [&](const PreparedRun* r) { return r->covariate(k, 0).has_value(); });
+    if (everywhere && !excluded_key(k)) out.push_back(k);
+  }
+  return out;
+}
+
+std::pair<double, double> covariate_stats(const std::string& key, const std::vector<const PreparedRun*>& runs) {
+  std::vector<double> values;
+  for (const PreparedRun* r : runs) {
+    double sum = 0.0;
+    for (const std::size_t i : r->analysed) sum += r->covariate(key, i).value_or(0.0);
+    values.push_back(r->analysed.empty() ? 0.0 : sum / static_cast<double>(r->analysed.size()));
+  }
+  double mean = 0.0;
+  for (const double v : values) mean += v;
+  mean /= static_cast<double>(std::max<std::size_t>(values.size(), 1));
+  double var = 0.0;
+  for (const double v : values) var += (v - mean) * (v - mean);
+  return {mean, std::sqrt(var / static_cast<double>(std::max<std::size_t>(values.size(), 1)))};
+}
+
+}  // namespace
+
+const std::vector<std::string>& EffectCatalogue::builtin_names() {
+  static const std::vector<std::string> kNames = {
+      "rate_dependence", "iop_stiffness", "shaft_friction", "rig_compliance", "sensor_drift",
+      "spatial_ripple", "mains_interference", "stick_slip", "stress_relaxation"};
+  return kNames;
+}
+
+EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<const PreparedRun*>& runs) : model_(&model) {
+  covariates_ = candidate_keys(runs);
+  for (const auto& key : covariates_) covariate_stats_.push_back(covariate_stats(key, runs));
+}
+
+std::vector<std::string> EffectCatalogue::candidates() const {
+  std::vector<std::string> out = builtin_names();
+  for (const auto& key : covariates_) out.push_back("covariate:" + key);
+  return out;
+}
+
+std::unique_ptr<EffectTerm> EffectCatalogue::make(const std::string& name) const {
+  using namespace effects;
+  if (name == "rate_dependence") return std::make_unique<RateDependence>(model_->reference_velocity_mm_s);
+  if (name == "iop_stiffness") return std::make_unique<IopStiffness>();
+  if (name == "shaft_friction") return std::make_unique<ShaftFriction>();
+  if (name == "rig_compliance") return std::make_unique<RigCompliance>();
+  if (name == "sensor_drift") return std::make_unique<SensorDrift>();
+  if (name == "spatial_ripple") return std::make_unique<SpatialRipple>();
+  if (name == "mains_interference") return std::make_unique<MainsInterference>();
+  if (name == "stick_slip") return std::make_unique<StickSlip>();
+  if (name == "stress_relaxation") return std::make_unique<StressRelaxation>();
+  if (name.rfind("covariate:", 0) == 0) {
+    const std::string key = name.substr(10);
+    const auto at = std::find(covariates_.begin(), covariates_.end(), key);
+    if (at == covariates_.end()) throw std::invalid_argument("effect '" + name + "': no numeric covariate '" + key + "' in every run");
+    const auto [mean, spread] = covariate_stats_[static_cast<std::size_t>(at - covariates_.begin())];
+    return std::make_unique<CovariateScaling>(key, mean, spread > 0.0 ? spread : 1.0);
+  }
+  if (name.rfind("user:", 0) == 0) {
+    for (const UserTerm& term : model_->user_terms) {
+      if ("user:" + term.name == name) return std::make_unique<UserExpression>(term);
+    }
+  }
+  std::string known;
+  for (const auto& n : candidates()) known += (known.empty() ? "" : ", ") + n;
+  for (const UserTerm& term : model_->user_terms) known += ", user:" + term.name;
+  throw std::invalid_argument("unknown effect '" + name + "' (known: " + known + ")");
+}
+
+std::vector<SavedEffect> saved_effects(const ForceModel& model, const EffectCatalogue& catalogue) {
+  std::vector<SavedEffect> out;
+  for (const EffectSetting& setting : model.effects) {
+    SavedEffect saved;
+    const auto mean = setting.params.find("mean");
+    const auto spread = setting.params.find("spread");
+    if (setting.name.rfind("covariate:", 0) == 0 && mean != setting.params.end() && spread != setting.params.end()) {
+      // A covariate term keeps the centre and scale it was fitted with.
+      saved.term = std::make_unique<effects::CovariateScaling>(setting.name.substr(10), mean->second, spread->second);
+    } else {
+      saved.term = catalogue.make(setting.name);
+    }
+    for (const ParamSpec& spec : saved.term->shared_params()) {
+      const auto it = setting.params.find(spec.name);
+      saved.params.push_back(it != setting.params.end() ? it->second : spec.initial);
+    }
+    out.push_back(std::move(saved));
+  }
+  for (const UserTerm& term : model.user_terms) {
+    SavedEffect saved{std::make_unique<effects::UserExpression>(term), {}};
+    for (const ParamSpec& spec : saved.term->shared_params()) saved.params.push_back(spec.initial);
+    out.push_back(std::move(saved));
+  }
+  return out;
+}
+
+}  // namespace rig::model

@@ -1,0 +1,75 @@
+#pragma once
+// One physical or instrument effect the paper's model does not have, as a term the model
+// lab can add: its meaning, its parameters with bounds and units, and how it changes the
+// prediction. Physical effects have parameters shared by all runs; instrument effects
+// (drift, mains phase, ripple phase) also have per-run coefficients, linear in the
+// prediction, fitted on each run's own data.
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "force_model.hpp"
+#include "prepared_run.hpp"
+
+namespace rig::model {
+
+struct ParamSpec {
+  std::string name;
+  std::string unit;
+  double initial = 0.0;
+  double lower = 0.0;
+  double upper = 0.0;
+};
+
+struct SampleView {
+  const PreparedRun* run = nullptr;
+  std::size_t i = 0;
+  double x_mm = 0.0;
+  double t_s = 0.0;
+  double force_N = 0.0;       // measured
+  double velocity_mm_s = 0.0;
+  double hold_s = 0.0;
+  double inserted_mm = 0.0;      // blade length past the model's puncture depth
+  Phase phase = Phase::kApproach;  // detected from the data (approach, hold, retraction)
+  bool after_puncture = false;   // past the model's own x_pi (Eq. 1's phases, for the terms)
+  bool cutting = false;          // between the model's x_pi and x_c while inserting
+  double x_pi_mm = 0.0;          // the model's puncture depth for this run
+};
+
+// What a term may quote as evidence: its fitted shared parameters, the runs, and each run's
+// own coefficients (this term's slice).
+struct EvidenceInput {
+  const double* shared = nullptr;
+  std::vector<const PreparedRun*> runs;
+  std::vector<Eigen::VectorXd> run_coefficients;
+};
+
+class EffectTerm {
+ public:
+  virtual ~EffectTerm() = default;
+  virtual std::string name() const = 0;
+  virtual std::string meaning() const = 0;
+  virtual std::vector<ParamSpec> shared_params() const { return {}; }
+  virtual int linear_columns() const { return 0; }
+  // Linear coefficients per run (instrument effects, default) or shared by all runs.
+  virtual bool per_run_coefficients() const { return true; }
+  // Whether the data can show this effect at all (e.g. several velocities for a rate term).
+  virtual bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const;
+
+  // Stages of the prediction (see Predictor): model parameters of the run, displacement
+  // correction, scale of the tissue force, additive force, per-run linear columns.
+  virtual void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const;
+  virtual double x_shift(const SampleView& s, const double* p) const;
+  virtual double scale(const SampleView& s, const double* p) const;
+  virtual double add(const SampleView& s, const double* p, double force_N) const;
+  virtual void design(const SampleView& s, const double* p, double* row) const;
+
+  // Several starting points for the shared parameters (multimodal ones: periods,
+  // frequencies); the lab keeps the best before refining.
+  virtual std::vector<std::vector<double>> starts() const;
+  // The evidence in words, from the fitted parameters.
+  virtual std::string evidence(const EvidenceInput& in) const = 0;
+};
+
+}  // namespace rig::model

@@ -1,0 +1,200 @@
+#include "fitter.hpp"
+
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include <cmath>
+
+namespace rig::model {
+
+const std::vector<BaselineParam>& baseline_parameters() {
+  static const std::vector<BaselineParam> kParams = {
+      {"a", "N/mm", &ContinuousParams::a, 0.0, 0.2},
+      {"b", "N/mm", &ContinuousParams::b, 0.0, 1.0},
+      {"d", "N", &ContinuousParams::d, -0.2, 0.2},
+      {"f", "1/mm", &ContinuousParams::f, -3.0, 3.0},
+      {"g", "N/mmHg", &ContinuousParams::g, -0.1, 0.1},
+      {"g0", "N", &ContinuousParams::g0, -2.0, 2.0},
+      {"x_c", "mm", &ContinuousParams::x_c, 1.0, 14.0},
+      {"w_drop", "mm", &ContinuousParams::w_drop, 0.005, 1.0},
+      {"w_release", "mm", &ContinuousParams::w_release, 0.002, 1.0},
+      {"x_pi_shift", "mm", &ContinuousParams::x_pi_shift, -2.0, 2.0},
+      {"x_pf_shift", "mm", &ContinuousParams::x_pf_shift, -3.0, 5.0},
+  };
+  return kParams;
+}
+
+namespace {
+
+double to_bounded(double u, double lo, double hi) { return lo + (hi - lo) * (1.0 + std::sin(u)) * 0.5; }
+double from_bounded(double x, double lo, double hi) {
+  const double s = std::clamp(2.0 * (x - lo) / (hi - lo) - 1.0, -1.0 + 1e-9, 1.0 - 1e-9);
+  return std::asin(s);
+}
+
+}  // namespace
+
+Fitter::Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline)
+    : predictor_(&predictor), runs_(std::move(runs)), fit_baseline_(fit_baseline) {
+  if (fit_baseline_) {
+    for (const auto& b : baseline_parameters()) specs_.push_back({b.lower, b.upper, true});
+  }
+  for (const EffectTerm* t : predictor.terms()) {
+    for (const ParamSpec& s : t->shared_params()) specs_.push_back({s.lower, s.upper, s.lower < s.upper});
+  }
+  for (const PreparedRun* r : runs_) rows_ += r->fit_rows.size();
+}
+
+Eigen::VectorXd Fitter::pack(const ModelParams& p) const {
+  Eigen::VectorXd u(static_cast<Eigen::Index>(specs_.size()));
+  Eigen::Index k = 0;
+  auto put = [&](double value) {
+    const Spec& s = specs_[static_cast<std::size_t>(k)];
+    u(k++) = s.bounded ? from_bounded(value, s.lower, s.upper) : value;
+  };
+  if (fit_baseline_) {
+    for (const auto& b : baseline_parameters()) put(p.base.*(b.member));
+  }
+  for (const auto& values : p.shared) {
+    for (const double v : values) put(v);
+  }
+  return u;
+}
+
+ModelParams Fitter::unpack(const Eigen::VectorXd& u, const ModelParams& start) const {
+  ModelParams p = start;
+  Eigen::Index k = 0;
+  auto take = [&]() {
+    const Spec& s = specs_[static_cast<std::size_t>(k)];
+    const double v = u(k++);
+    return s.bounded ? to_bounded(v, s.lower, s.upper) : v;
+  };
+  if (fit_baseline_) {
+    for (const auto& b : baseline_parameters()) p.base.*(b.member) = take();
+  }
+  for (auto& values : p.shared) {
+    for (double& v : values) v = take();
+  }
+  return p;
+}
+
+std::vector<double> Fitter::residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
+                                      const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients) {
+  std::vector<double> prediction;
+  Eigen::MatrixXd X;
+  predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr);
+  std::vector<double> r(rows.size());
+  for (std::size_t n = 0; n < rows.size(); ++n) r[n] = run.data->force_N[rows[n]] - prediction[n];
+  if (predictor.linear_columns() > 0) {
+    const Eigen::Map<Eigen::VectorXd> rv(r.data(), static_cast<Eigen::Index>(r.size()));
+    const Eigen::VectorXd beta = solve_linear(X, rv);
+    const Eigen::VectorXd rest = rv - X * beta;
+    for (std::size_t n = 0; n < r.size(); ++n) r[n] = rest(static_cast<Eigen::Index>(n));
+    if (coefficients != nullptr) *coefficients = beta;
+  }
+  return r;
+}
+
+void Fitter::evaluate_all(const ModelParams& p, Eigen::VectorXd* fvec, Eigen::VectorXd& gamma,
+                          std::vector<Eigen::VectorXd>& betas) const {
+  betas.assign(runs_.size(), Eigen::VectorXd());
+  if (predictor_->shared_columns() == 0) {
+    Eigen::Index k = 0;
+    for (std::size_t r = 0; r < runs_.size(); ++r) {
+      for (const double e : residuals(*predictor_, *runs_[r], p, runs_[r]->fit_rows, &betas[r])) {
+        if (fvec != nullptr) (*fvec)(k) = e;
+        ++k;
+      }
+    }
+    gamma = Eigen::VectorXd();
+    return;
+  }
+  std::vector<Eigen::VectorXd> r(runs_.size());
+  std::vector<Eigen::MatrixXd> X(runs_.size()), S(runs_.size());
+  Eigen::Index rows = 0;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    std::vector<double> prediction;
+    const auto& fit_rows = runs_[i]->fit_rows;
+    predictor_->evaluate(*runs_[i], p, fit_rows, prediction, predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i]);
+    r[i].resize(static_cast<Eigen::Index>(fit_rows.size()));
+    for (std::size_t n = 0; n < fit_rows.size(); ++n) r[i](static_cast<Eigen::Index>(n)) = runs_[i]->data->force_N[fit_rows[n]] - prediction[n];
+    rows += r[i].size();
+  }
+  const Eigen::Index shared = predictor_->shared_columns();
+  gamma = Eigen::VectorXd::Zero(shared);
+  for (int pass = 0; pass < 3; ++pass) {  // alternate: per-run given shared, shared given per-run
+    Eigen::MatrixXd stacked(rows, shared);
+    Eigen::VectorXd target(rows);
+    Eigen::Index at = 0;
+    for (std::size_t i = 0; i < runs_.size(); ++i) {
+      const Eigen::VectorXd rest = r[i] - S[i] * gamma;
+      betas[i] = X[i].cols() > 0 ? solve_linear(X[i], rest) : Eigen::VectorXd();
+      stacked.middleRows(at, r[i].size()) = S[i];
+      target.segment(at, r[i].size()) = betas[i].size() > 0 ? Eigen::VectorXd(r[i] - X[i] * betas[i]) : r[i];
+      at += r[i].size();
+    }
+    gamma = solve_linear(stacked, target);
+  }
+  Eigen::Index k = 0;
+  for (std::size_t i = 0; i < runs_.size(); ++i) {
+    Eigen::VectorXd e = r[i] - S[i] * gamma;
+    if (betas[i].size() > 0) e -= X[i] * betas[i];
+    if (fvec != nullptr) fvec->segment(k, e.size()) = e;
+    k += e.size();
+  }
+}
+
+double Fitter::sse(const ModelParams& p) const {
+  Eigen::VectorXd fvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_));
+  Eigen::VectorXd gamma;
+  std::vector<Eigen::VectorXd> betas;
+  evaluate_all(p, &fvec, gamma, betas);
+  return fvec.squaredNorm();
+}
+
+struct FitFunctor {
+  using Scalar = double;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+
+  const Fitter* fitter;
+  const ModelParams* start;
+  int inputs() const { return static_cast<int>(fitter->specs_.size()); }
+  int values() const { return static_cast<int>(std::max(fitter->rows_, fitter->specs_.size())); }
+  int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& fvec) const {
+    fvec.setZero(values());
+    Eigen::VectorXd gamma;
+    std::vector<Eigen::VectorXd> betas;
+    fitter->evaluate_all(fitter->unpack(u, *start), &fvec, gamma, betas);
+    return 0;
+  }
+};
+
+FitResult Fitter::fit(const ModelParams& start, int max_evaluations) const {
+  FitResult result;
+  result.params = start;
+  if (!specs_.empty() && rows_ > specs_.size()) {
+    FitFunctor functor{this, &start};
+    Eigen::NumericalDiff<FitFunctor> numeric(functor);
+    Eigen::LevenbergMarquardt<Eigen::NumericalDiff<FitFunctor>> lm(numeric);
+    lm.parameters.maxfev = max_evaluations;
+    lm.parameters.xtol = 1e-8;
+    lm.parameters.ftol = 1e-10;
+    Eigen::VectorXd u = pack(start);
+    const auto status = lm.minimize(u);
+    result.params = unpack(u, start);
+    result.evaluations = static_cast<int>(lm.nfev);
+    result.converged = status == Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall ||
+                       status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
+                       status == Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall ||
+                       status == Eigen::LevenbergMarquardtSpace::XtolTooSmall;
+  }
+  Eigen::VectorXd fvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_));
+  evaluate_all(result.params, &fvec, result.params.shared_linear, result.run_coefficients);
+  result.rmse_N = rows_ > 0 ? std::sqrt(fvec.squaredNorm() / static_cast<double>(rows_)) : 0.0;
+  return result;
+}
+
+}  // namespace rig::model

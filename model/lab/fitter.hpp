@@ -1,0 +1,66 @@
+#pragma once
+// Fits the model family to a set of runs: Levenberg-Marquardt (Eigen) over the shared
+// parameters - Eq. 1's and the added effects' - with the per-run linear coefficients of the
+// instrument effects solved inside every evaluation (variable projection). Bounds are kept
+// by a smooth sine transform of each bounded parameter.
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "predictor.hpp"
+
+namespace rig::model {
+
+struct FitResult {
+  ModelParams params;
+  std::vector<Eigen::VectorXd> run_coefficients;  // per run: its instrument coefficients
+  double rmse_N = 0.0;                            // on the fit rows
+  int evaluations = 0;
+  bool converged = false;
+};
+
+struct BaselineParam {
+  const char* name;
+  const char* unit;
+  double ContinuousParams::*member;
+  double lower;
+  double upper;
+};
+const std::vector<BaselineParam>& baseline_parameters();
+
+class Fitter {
+ public:
+  Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline = true);
+  FitResult fit(const ModelParams& start, int max_evaluations = 300) const;
+
+  // Residuals (measured - predicted) of a run at `rows`, with its linear coefficients
+  // solved on `coefficient_rows` (the same rows, or other blocks for blocked CV).
+  static std::vector<double> residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
+                                       const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients = nullptr);
+
+  std::size_t parameter_count() const { return specs_.size(); }
+  // Sum of squared residuals at the fit rows, every linear coefficient solved [N^2].
+  double sse(const ModelParams& p) const;
+
+ private:
+  struct Spec {
+    double lower, upper;
+    bool bounded;
+  };
+  // Residuals of all runs at their fit rows (into fvec if given): shared linear coefficients
+  // (gamma) and per-run ones (betas) solved jointly by alternating least squares.
+  void evaluate_all(const ModelParams& p, Eigen::VectorXd* fvec, Eigen::VectorXd& gamma,
+                    std::vector<Eigen::VectorXd>& betas) const;
+  ModelParams unpack(const Eigen::VectorXd& u, const ModelParams& start) const;
+  Eigen::VectorXd pack(const ModelParams& p) const;
+  friend struct FitFunctor;
+
+  const Predictor* predictor_;
+  std::vector<const PreparedRun*> runs_;
+  bool fit_baseline_;
+  std::vector<Spec> specs_;
+  std::size_t rows_ = 0;
+};
+
+}  // namespace rig::model

@@ -1,0 +1,79 @@
+#include "model_family.hpp"
+
+#include <cmath>
+
+#include "effects/covariate_scaling.hpp"
+
+namespace rig::model {
+
+ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra) {
+  for (SavedEffect& saved : saved_effects(model, catalogue)) {
+    names_.push_back(saved.term->name());
+    saved_params_.push_back(saved.params);
+    owned_.push_back(std::move(saved.term));
+  }
+  saved_count_ = owned_.size();
+  for (const std::string& name : extra) {
+    owned_.push_back(catalogue.make(name));
+    names_.push_back(owned_.back()->name());
+  }
+  std::vector<const EffectTerm*> terms;
+  for (const auto& t : owned_) terms.push_back(t.get());
+  predictor_ = std::make_unique<Predictor>(model, terms);
+}
+
+ModelParams ModelFamily::start(const std::vector<const PreparedRun*>& runs) const {
+  ModelParams p = predictor_->initial_params();
+  for (std::size_t k = 0; k < saved_count_; ++k) p.shared[k] = saved_params_[k];
+  for (std::size_t k = saved_count_; k < owned_.size(); ++k) {
+    const auto starts = owned_[k]->starts();
+    if (starts.size() < 2) continue;
+    const Fitter scorer(*predictor_, runs);
+    double best = INFINITY;  // score each start by the fit-row error with everything else fixed
+    for (const auto& candidate : starts) {
+      ModelParams trial = p;
+      trial.shared[k] = candidate;
+      const double sse = scorer.sse(trial);
+      if (sse < best) best = sse, p.shared[k] = candidate;
+    }
+  }
+  return p;
+}
+
+CvResult ModelFamily::cross_validate(const std::vector<const PreparedRun*>& runs) const {
+  return model::cross_validate(*predictor_, runs, start(runs));
+}
+
+std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) const {
+  std::vector<EffectSetting> out;
+  for (std::size_t k = 0; k < owned_.size(); ++k) {
+    if (names_[k].rfind("user:", 0) == 0) continue;  // user terms stay in [terms]
+    EffectSetting setting{names_[k], {}};
+    const auto specs = owned_[k]->shared_params();
+    for (std::size_t i = 0; i < specs.size(); ++i) setting.params[specs[i].name] = params.shared[k][i];
+    if (const auto* cov = dynamic_cast<const effects::CovariateScaling*>(owned_[k].get())) {
+      setting.params["mean"] = cov->mean();
+      setting.params["spread"] = cov->spread();
+    }
+    out.push_back(std::move(setting));
+  }
+  return out;
+}
+
+std::string ModelFamily::evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+  int column = 0;
+  for (std::size_t k = 0; k < owned_.size(); ++k) {
+    const int columns = owned_[k]->linear_columns();
+    if (names_[k] == effect) {
+      EvidenceInput in{fit.params.shared[k].data(), runs, {}};
+      for (const auto& c : fit.run_coefficients) {
+        in.run_coefficients.push_back(columns > 0 && c.size() >= column + columns ? Eigen::VectorXd(c.segment(column, columns)) : Eigen::VectorXd());
+      }
+      return owned_[k]->evidence(in);
+    }
+    column += columns;
+  }
+  return "";
+}
+
+}  // namespace rig::model

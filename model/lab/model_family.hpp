@@ -1,0 +1,34 @@
+#pragma once
+// A model family to fit: Eq. 1 plus a list of effect terms (owned), with starting values.
+// Builds the Predictor, picks the best start of multimodal terms, runs the CV.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cross_validation.hpp"
+#include "effect_catalogue.hpp"
+
+namespace rig::model {
+
+class ModelFamily {
+ public:
+  ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra_effects);
+
+  const Predictor& predictor() const { return *predictor_; }
+  const std::vector<std::string>& effect_names() const { return names_; }
+  // Start values: the model file's, with the best of each new term's starting points.
+  ModelParams start(const std::vector<const PreparedRun*>& runs) const;
+  CvResult cross_validate(const std::vector<const PreparedRun*>& runs) const;
+  // The effect settings (shared parameters by name) of a fit, for a model file.
+  std::vector<EffectSetting> settings(const ModelParams& params) const;
+  std::string evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
+
+ private:
+  std::vector<std::unique_ptr<EffectTerm>> owned_;
+  std::vector<std::string> names_;
+  std::vector<std::vector<double>> saved_params_;
+  std::size_t saved_count_ = 0;
+  std::unique_ptr<Predictor> predictor_;
+};
+
+}  // namespace rig::model

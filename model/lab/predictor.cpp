@@ -1,0 +1,96 @@
+#include "predictor.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+
+namespace rig::model {
+
+Predictor::Predictor(const ForceModel& model, std::vector<const EffectTerm*> terms)
+    : model_(model), terms_(std::move(terms)) {
+  model_.form = ModelForm::kContinuous;
+  for (const EffectTerm* t : terms_) (t->per_run_coefficients() ? linear_columns_ : shared_columns_) += t->linear_columns();
+}
+
+ModelParams Predictor::initial_params() const {
+  ModelParams p;
+  p.base = model_.params;
+  for (const EffectTerm* t : terms_) {
+    std::vector<double> values;
+    for (const ParamSpec& s : t->shared_params()) values.push_back(s.initial);
+    p.shared.push_back(std::move(values));
+  }
+  p.shared_linear = Eigen::VectorXd::Zero(shared_columns_);
+  return p;
+}
+
+void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
+                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S) const {
+  ForceModel m = model_;
+  m.params = p.base;
+  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->adjust_model(run, p.shared[k].data(), m.params);
+  out.resize(rows.size());
+  if (X != nullptr) X->resize(static_cast<Eigen::Index>(rows.size()), linear_columns_);
+  if (S != nullptr) S->resize(static_cast<Eigen::Index>(rows.size()), shared_columns_);
+  const RunData& r = *run.data;
+  const double x_pi = m.puncture_depth_mm(run.iop_mmHg);
+  const double x_c = std::min(m.params.x_c, m.final_depth_mm(run.iop_mmHg));
+  std::vector<double> row(static_cast<std::size_t>(std::max(linear_columns_ + shared_columns_, 1)));
+  for (std::size_t n = 0; n < rows.size(); ++n) {
+    const std::size_t i = rows[n];
+    SampleView s{&run, i, r.x_mm[i], r.t_s[i], r.force_N[i], run.velocity_mm_s[i], run.hold_s[i], 0.0, run.seg.phase[i]};
+    s.inserted_mm = std::max(0.0, std::min(s.x_mm, run.front_mm[i]) - x_pi);
+    s.after_puncture = run.front_mm[i] >= x_pi;
+    s.cutting = s.after_puncture && s.x_mm < x_c && (s.phase != Phase::kHold && s.phase != Phase::kRetraction);
+    s.x_pi_mm = x_pi;
+    double shift = 0.0;
+    double scale = 1.0;
+    for (std::size_t k = 0; k < terms_.size(); ++k) {
+      shift += terms_[k]->x_shift(s, p.shared[k].data());
+      scale *= terms_[k]->scale(s, p.shared[k].data());
+    }
+    double force = m.baseline(s.x_mm - shift, run.front_mm[i] - shift, run.iop_mmHg) * scale;
+    double added = 0.0;
+    for (std::size_t k = 0; k < terms_.size(); ++k) added += terms_[k]->add(s, p.shared[k].data(), force);
+    out[n] = force + added;
+    const bool per_run = X != nullptr && linear_columns_ > 0;
+    const bool shared = S != nullptr && shared_columns_ > 0;
+    if (per_run || shared) {
+      int column = 0;
+      int shared_column = 0;
+      for (std::size_t k = 0; k < terms_.size(); ++k) {
+        const int columns = terms_[k]->linear_columns();
+        if (columns == 0) continue;
+        terms_[k]->design(s, p.shared[k].data(), row.data());
+        const bool own = terms_[k]->per_run_coefficients();
+        Eigen::MatrixXd* target = own ? X : S;
+        int& at = own ? column : shared_column;
+        if (target != nullptr) {
+          for (int c = 0; c < columns; ++c) (*target)(static_cast<Eigen::Index>(n), at + c) = row[static_cast<std::size_t>(c)];
+        }
+        at += columns;
+      }
+    }
+  }
+  if (S == nullptr && shared_columns_ > 0 && p.shared_linear.size() == shared_columns_) {
+    // No caller wants the shared columns: apply the known shared coefficients directly.
+    Eigen::MatrixXd shared_design;
+    std::vector<double> ignored;
+    evaluate(run, p, rows, ignored, nullptr, &shared_design);
+    const Eigen::VectorXd add = shared_design * p.shared_linear;
+    for (std::size_t n = 0; n < rows.size(); ++n) out[n] += add(static_cast<Eigen::Index>(n));
+  }
+}
+
+Eigen::VectorXd solve_linear(const Eigen::MatrixXd& X, const Eigen::VectorXd& residual) {
+  if (X.cols() == 0 || X.rows() == 0) return Eigen::VectorXd();
+  // Ridge-regularised normal equations on column-scaled X: well conditioned and cheap.
+  Eigen::VectorXd scale = X.colwise().norm().transpose();
+  for (Eigen::Index c = 0; c < scale.size(); ++c) scale(c) = scale(c) > 1e-12 ? scale(c) : 1.0;
+  const Eigen::MatrixXd Xs = X * scale.cwiseInverse().asDiagonal();
+  Eigen::MatrixXd A = Xs.transpose() * Xs;
+  A.diagonal().array() += 1e-6;
+  const Eigen::VectorXd beta = A.ldlt().solve(Xs.transpose() * residual);
+  return beta.cwiseQuotient(scale);
+}
+
+}  // namespace rig::model

@@ -1,0 +1,83 @@
+#include "prepared_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rig::model {
+
+std::optional<double> PreparedRun::covariate(const std::string& key, std::size_t i) const {
+  if (const Channel* channel = data->channel(key)) return channel->values[i];
+  return data->number(key);
+}
+
+namespace {
+
+void derive_velocity(PreparedRun& p) {
+  const RunData& r = *p.data;
+  p.velocity_mm_s.assign(r.size(), 0.0);
+  constexpr double kHalfWindow_s = 0.01;
+  std::size_t lo = 0, hi = 0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    while (lo < i && r.t_s[lo] < r.t_s[i] - kHalfWindow_s) ++lo;
+    while (hi + 1 < r.size() && r.t_s[hi + 1] <= r.t_s[i] + kHalfWindow_s) ++hi;
+    const double dt = r.t_s[hi] - r.t_s[lo];
+    p.velocity_mm_s[i] = dt > 1e-9 ? (r.x_mm[hi] - r.x_mm[lo]) / dt : 0.0;
+  }
+}
+
+double measured_insertion_velocity(const PreparedRun& p) {
+  std::vector<double> v;
+  for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
+    if (p.data->x_mm[i] > 0.5 && p.data->x_mm[i] < p.seg.max_depth_mm - 0.5) v.push_back(p.velocity_mm_s[i]);
+  }
+  if (v.empty()) return 1.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
+  PreparedRun p;
+  p.data = &run;
+  p.seg = detect_phases(run);
+  derive_velocity(p);
+  p.hold_s.assign(run.size(), 0.0);
+  p.inserted_mm.assign(run.size(), 0.0);
+  p.front_mm.assign(run.size(), 0.0);
+  double front = -1e9;
+  double deepest = -1e9;  // of the raw samples, for the inserted length
+  for (std::size_t i = 0; i < run.size(); ++i) {
+    // The front is the deepest point of x averaged over +-5 samples: the maximum of raw
+    // noisy samples would sit above a held position by ~2 sigma of the potentiometer.
+    const std::size_t lo = i >= 5 ? i - 5 : 0;
+    const std::size_t hi = std::min(run.size(), i + 6);
+    double mean = 0.0;
+    for (std::size_t j = lo; j < hi; ++j) mean += run.x_mm[j];
+    front = std::max(front, mean / static_cast<double>(hi - lo));
+    p.front_mm[i] = std::max(front, run.x_mm[i] - 0.01);
+    deepest = std::max(deepest, run.x_mm[i]);
+    // In the hold: time since it began; after it (retraction): its whole length, since the
+    // withdrawn tissue stays as relaxed as the hold left it.
+    if (p.seg.phase[i] == Phase::kHold) p.hold_s[i] = run.t_s[i] - run.t_s[p.seg.hold_begin];
+    if (p.seg.phase[i] == Phase::kRetraction && p.seg.hold_end > p.seg.hold_begin) {
+      p.hold_s[i] = run.t_s[p.seg.hold_end - 1] - run.t_s[p.seg.hold_begin];
+    }
+    if (p.seg.punctured) p.inserted_mm[i] = std::max(0.0, std::min(run.x_mm[i], deepest) - p.seg.x_pi_mm);
+  }
+  std::size_t first = 0;
+  while (first < run.size() && run.x_mm[first] < 0.0) ++first;
+  for (std::size_t i = first; i < run.size(); ++i) p.analysed.push_back(i);
+  const std::size_t stride = std::max<std::size_t>(1, p.analysed.size() / max_fit_rows);
+  for (std::size_t k = 0; k < p.analysed.size(); k += stride) p.fit_rows.push_back(p.analysed[k]);
+  p.iop_known = run.number("iop_mmHg").has_value();
+  p.iop_mmHg = run.number("iop_mmHg").value_or(15.0);
+  if (!p.iop_known) p.warnings.push_back(run.source + ": no iop_mmHg: the model is evaluated at 15 mmHg and IOP analyses leave this run out");
+  p.velocity_known = run.number("velocity_mm_s").has_value();
+  p.velocity_cmd_mm_s = run.number("velocity_mm_s").value_or(measured_insertion_velocity(p));
+  if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
+  for (const auto& note : p.seg.notes) p.warnings.push_back(run.source + ": " + note);
+  return p;
+}
+
+}  // namespace rig::model

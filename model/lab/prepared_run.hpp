@@ -1,0 +1,36 @@
+#pragma once
+// A run made ready for fitting: its phases, smoothed velocity, time in hold, inserted blade
+// length, the samples analysed (from first contact on) and a decimated subset for fits.
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "phases.hpp"
+#include "run_data.hpp"
+
+namespace rig::model {
+
+struct PreparedRun {
+  const RunData* data = nullptr;
+  Segmentation seg;
+  std::vector<double> velocity_mm_s;  // dx/dt over +-10 ms (irregular sampling safe)
+  std::vector<double> hold_s;         // time since the hold began, 0 outside it
+  std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
+  std::vector<double> front_mm;       // deepest displacement so far
+  std::vector<std::size_t> analysed;  // from first contact to the end
+  std::vector<std::size_t> fit_rows;  // evenly thinned `analysed`, for the nonlinear fits
+  double iop_mmHg = 15.0;
+  double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
+  bool iop_known = false;
+  bool velocity_known = false;
+  std::vector<std::string> warnings;
+
+  std::size_t size() const { return data->size(); }
+  // A numeric covariate: run metadata, or an extra channel's value at sample i.
+  std::optional<double> covariate(const std::string& key, std::size_t i) const;
+  std::string label() const { return data->label(); }
+};
+
+PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
+
+}  // namespace rig::model
