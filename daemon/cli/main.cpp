@@ -8,6 +8,8 @@
 #include "cli_context.hpp"
 #include "control_commands.hpp"
 #include "demo_command.hpp"
+#include "model_commands.hpp"
+#include "sim_commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"rig: run incision tests on the keratome rig, analyse them with the model lab, feel them on the Phantom"};
@@ -24,6 +26,8 @@ int main(int argc, char** argv) {
   rig::cli::add_control_commands(app, context, exit_code);
   rig::cli::add_archive_commands(app, context, exit_code);
   rig::cli::add_demo_command(app, context, exit_code);
+  rig::cli::add_model_commands(app, context, exit_code);
+  rig::cli::add_sim_commands(app, context, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -11,7 +11,7 @@
 namespace rig::model {
 namespace {
 
-constexpr double kMinGainPct = 2.0;
+constexpr double kMinGainPct = 5.0;  // below this, per-run structure the model must not chase (tearing) can pass
 constexpr double kMinRunsImproved = 0.6;
 constexpr double kMaxDeltaBic = -10.0;
 

@@ -33,14 +33,21 @@ std::size_t deepest_index(const RunData& run) {
 }
 
 void find_hold(const RunData& run, Segmentation& s) {
-  const double tolerance = std::max(0.02, 0.005 * s.max_depth_mm);  // [mm]
-  std::size_t begin = s.insertion_end;
-  while (begin > 0 && run.x_mm[begin - 1] >= s.max_depth_mm - tolerance) --begin;
+  // A hold starts at the deepest point and lasts until the blade has clearly withdrawn
+  // (0.2 mm: far beyond servo settling and overshoot); a turnaround is no hold (< 0.5 s).
+  constexpr double kWithdrawn_mm = 0.2;
   std::size_t end = s.insertion_end;
-  while (end < run.size() && run.x_mm[end] >= s.max_depth_mm - tolerance) ++end;
-  if (run.t_s[end - 1] - run.t_s[begin] >= 0.5) {  // at rest at depth for 0.5 s: a turnaround is no hold
-    s.hold_begin = begin;
-    s.hold_end = end;
+  while (end < run.size() && run.x_mm[end] >= s.max_depth_mm - kWithdrawn_mm) ++end;
+  // The retraction begins where the blade starts to leave the held position (the median of
+  // that window: the carriage settles back from its overshoot), not where it has left.
+  std::vector<double> window(run.x_mm.begin() + static_cast<std::ptrdiff_t>(s.insertion_end),
+                             run.x_mm.begin() + static_cast<std::ptrdiff_t>(end));
+  const double held = median(window);
+  std::size_t leave = end;
+  while (leave > s.insertion_end + 1 && run.x_mm[leave - 1] < held - 0.02) --leave;
+  if (run.t_s[leave - 1] - run.t_s[s.insertion_end] >= 0.5) {
+    s.hold_begin = s.insertion_end;
+    s.hold_end = leave;
   } else {
     s.hold_begin = s.hold_end = s.insertion_end + 1;  // no hold: retraction starts after the deepest point
   }

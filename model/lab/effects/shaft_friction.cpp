@@ -29,7 +29,8 @@ double ShaftFriction::add(const SampleView& s, const double* p, double /*force_N
   if (s.inserted_mm <= 0.0) return 0.0;
   // Friction opposes the motion: the phase gives its direction (a velocity estimate smears
   // the sign flip at the turnaround, which takes about a millisecond).
-  const double direction = s.phase == Phase::kRetraction ? -1.0 : (s.phase == Phase::kHold ? 0.0 : 1.0);
+  double direction = s.phase == Phase::kRetraction ? -1.0 : (s.phase == Phase::kHold ? 0.0 : 1.0);
+  if (s.i == s.run->seg.insertion_end) direction = 0.0;  // the turnaround itself: at rest
   return p[0] * effective_length(s.inserted_mm, p[1]) * direction;
 }
 

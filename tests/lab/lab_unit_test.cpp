@@ -1,0 +1,153 @@
+// The model lab's pieces on small data (fast enough for the sanitizer builds): phase
+// detection, the needle data, user terms, saved models, the CLI's JSON.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <random>
+
+#include "comparison.hpp"
+#include "diagnosis.hpp"
+#include "lab_scenarios.hpp"
+#include "model_fit.hpp"
+#include "phases.hpp"
+#include "run_csv.hpp"
+#include "test_paths.hpp"
+
+namespace rig::model {
+namespace {
+
+RunData one_run(const std::vector<std::string>& hidden, double hold_s = 0.0, double depth = 12.0) {
+  sim::GeneratorOptions g;
+  for (const auto& spec : hidden) {
+    std::string error;
+    g.effects.push_back(*sim::parse_hidden_effect(spec, error));
+  }
+  sim::RunSpec spec;
+  spec.depth_mm = depth;
+  spec.hold_s = hold_s;
+  spec.eye_id = "unit";
+  return sim::generate_run(g, spec);
+}
+
+TEST(Phases, FindThePunctureHoldAndRetractionOfASimulatedCut) {
+  const RunData run = one_run({}, 2.0, 12.0);
+  const Segmentation s = detect_phases(run);
+  EXPECT_TRUE(s.punctured);
+  EXPECT_NEAR(s.x_pi_mm, 3.55, 0.05);
+  EXPECT_NEAR(s.x_c_mm, 6.89, 0.25);
+  EXPECT_NEAR(s.x_pf_mm, 9.35, 0.2);
+  ASSERT_GT(s.hold_end, s.hold_begin);
+  EXPECT_NEAR(run.t_s[s.hold_end - 1] - run.t_s[s.hold_begin], 2.0, 0.1);
+  EXPECT_EQ(s.phase.back(), Phase::kRetraction);
+  EXPECT_NEAR(s.noise_sigma_N, 0.0015, 0.0003);
+}
+
+TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
+  RunData run = one_run({"sensor_drift=2"});
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 0.006);
+  std::uniform_real_distribution<double> keep(0.0, 1.0);
+  RunData irregular = run;
+  irregular.t_s.clear(), irregular.x_mm.clear(), irregular.force_N.clear(), irregular.channels.clear();
+  for (std::size_t i = 0; i < run.size(); ++i) {
+    if (keep(rng) > 0.35) continue;  // a third of the samples, at irregular times
+    irregular.t_s.push_back(run.t_s[i]);
+    irregular.x_mm.push_back(run.x_mm[i]);
+    irregular.force_N.push_back(run.force_N[i] + noise(rng));  // 4x the load cell's noise
+  }
+  const Segmentation s = detect_phases(irregular);
+  EXPECT_TRUE(s.punctured);
+  EXPECT_NEAR(s.x_pi_mm, 3.55, 0.15);
+  EXPECT_NEAR(s.noise_sigma_N, 0.0062, 0.0015);
+}
+
+TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
+  const RunData needle = read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const Segmentation s = detect_phases(needle);
+  ASSERT_GT(s.hold_end, s.hold_begin) << "the liver data holds at 30 mm";
+  EXPECT_GT(needle.t_s[s.hold_end - 1] - needle.t_s[s.hold_begin], 5.0);
+  EXPECT_EQ(s.phase.back(), Phase::kRetraction);
+  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle});
+  EXPECT_FALSE(d.candidates.empty());
+  EXPECT_GT(d.baseline_cv_rmse_N, 0.0);
+  bool warned_about_iop = false;
+  for (const auto& w : d.warnings) warned_about_iop = warned_about_iop || w.find("iop_mmHg") != std::string::npos;
+  EXPECT_TRUE(warned_about_iop);
+  std::printf("needle: verdict %s, baseline %.4f N\n", d.verdict.c_str(), d.baseline_cv_rmse_N);
+}
+
+TEST(UserTerms, AnExpressionInTheModelFileIsFittedLikeACatalogueTerm) {
+  const std::vector<RunData> runs = {one_run({"shaft_friction"}), one_run({"shaft_friction"}, 0.0, 10.0)};
+  ForceModel model = ForceModel::paper_interpreted();
+  model.user_terms.push_back({"drag", "mu * L * (v > 0 ? 1 : -1)", "all", {{"mu", 0.0}}});
+  const FitReport f = fit_model(model, runs, {});
+  std::printf("user term: CV RMSE %.5f N (the paper's model without it: see before)\n", f.after_cv_rmse_N);
+  const FitReport without = fit_model(ForceModel::paper_interpreted(), runs, {});
+  EXPECT_LT(f.after_cv_rmse_N, 0.5 * without.after_cv_rmse_N);
+}
+
+TEST(UserTerms, ABadExpressionIsAnErrorNamingTheTermAndPosition) {
+  ForceModel model = ForceModel::paper_interpreted();
+  model.user_terms.push_back({"oops", "mu * (L +", "all", {{"mu", 0.0}}});
+  try {
+    fit_model(model, {one_run({})}, {});
+    FAIL();
+  } catch (const ModelFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("terms.oops.expression"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("position"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SavedModels, CarryTheirEffectsToTheComparison) {
+  const auto runs = std::vector<RunData>{one_run({"shaft_friction"}), one_run({"shaft_friction"}, 0.0, 11.0)};
+  const FitReport f = fit_model(ForceModel::paper_interpreted(), runs, {"shaft_friction"});
+  testing::ScratchDir dir("saved-model");
+  f.fitted.save(dir.file("fitted.toml"));
+  const ForceModel back = ForceModel::load(dir.file("fitted.toml"));
+  ASSERT_EQ(back.effects.size(), 1U);
+  EXPECT_NEAR(back.effects[0].params.at("mu"), 0.006, 0.0005);
+  const Comparison plain = compare(ForceModel::paper_interpreted(), runs);
+  const Comparison fitted = compare(back, runs);
+  EXPECT_LT(fitted.overall.rmse_N, 0.2 * plain.overall.rmse_N);
+}
+
+std::string run_rig(const std::string& args) {
+  std::array<char, 4096> buffer{};
+  std::string out;
+  FILE* pipe = popen((testing::bin("rig") + " " + args + " 2>/dev/null").c_str(), "r");
+  while (pipe != nullptr && fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
+  if (pipe != nullptr) pclose(pipe);
+  return out;
+}
+
+TEST(Cli, DiagnoseAndFitPrintTheDocumentedJson) {
+  testing::ScratchDir dir("cli-json");
+  ASSERT_NE(run_rig("sim generate --out " + dir.file("runs") + " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11"), "");
+  const auto d = nlohmann::json::parse(run_rig("--format json model diagnose " + dir.file("runs") + " --only shaft_friction,sensor_drift"));
+  EXPECT_TRUE(d["baseline"].contains("cv_rmse_N"));
+  EXPECT_TRUE(d["baseline"].contains("noise_floor_N"));
+  ASSERT_EQ(d["candidates"].size(), 2U);
+  for (const char* key : {"effect", "cv_rmse_N", "gain_pct", "significant", "evidence"}) EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
+  EXPECT_LE(d["candidates"][0]["cv_rmse_N"].get<double>(), d["candidates"][1]["cv_rmse_N"].get<double>());
+  EXPECT_EQ(d["verdict"], "shaft_friction");
+  const auto f = nlohmann::json::parse(run_rig("--format json model fit " + dir.file("runs") + " --add shaft_friction --save " + dir.file("m.toml")));
+  EXPECT_EQ(f["effects"], nlohmann::json::array({"shaft_friction"}));
+  EXPECT_LT(f["after"]["cv_rmse_N"].get<double>(), f["before"]["cv_rmse_N"].get<double>());
+  EXPECT_TRUE(f["params"]["shaft_friction"].contains("mu"));
+  EXPECT_TRUE(std::ifstream(dir.file("m.toml")).good());
+}
+
+TEST(Cli, LintFailsOnThePrintedModelAndNamesEachJump) {
+  const auto j = nlohmann::json::parse(run_rig("--format json model lint " + testing::source("model/params/paper-printed.toml")));
+  int jumps = 0;
+  for (const auto& f : j["findings"]) jumps += f.contains("jump_N") ? 1 : 0;
+  EXPECT_EQ(jumps, 16);  // 4 joints x 4 IOPs
+  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " + testing::source("model/params/paper-printed.toml") + " > /dev/null").c_str()) >> 8, 1);
+  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " + testing::source("model/params/paper-interpreted.toml") + " > /dev/null").c_str()) >> 8, 0);
+}
+
+}  // namespace
+}  // namespace rig::model
