@@ -126,7 +126,7 @@ void add_io_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("gpio.camera_trigger_line", 0, 1023, "camera trigger output line", RIG_AT(gpio.camera_trigger_line)));
   f.push_back(boolean("gpio.estop_active_low", "e-stop reads 0 when pressed (normally closed loop)", RIG_AT(gpio.estop_active_low)));
   f.push_back(integer("gpio.debounce_us", 0, 1000000, "switch debounce [us]", RIG_AT(gpio.debounce_us)));
-  f.push_back(text("camera.kind", {"none", "aravis", "v4l2"}, "camera driver", RIG_AT(camera.kind)));
+  f.push_back(text("camera.kind", {"none", "sim", "aravis", "v4l2"}, "camera driver (sim: rendered from the rig's state)", RIG_AT(camera.kind)));
   f.push_back(text("camera.id", {}, "Aravis id or IP, or V4L2 device", RIG_AT(camera.id)));
   f.push_back(integer("camera.width", 16, 8192, "image width [px]", RIG_AT(camera.width)));
   f.push_back(integer("camera.height", 16, 8192, "image height [px]", RIG_AT(camera.height)));

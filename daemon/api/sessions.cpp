@@ -66,6 +66,10 @@ WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server)
     : ws_(std::move(socket)), server_(&server) {}
 
 void WsSession::run(Request request) {
+  // Bounded kernel buffer per client (~2 s of stream): a client that stops reading fills it
+  // quickly, and then loses its own oldest messages in our queue, counted.
+  boost::system::error_code ignored;
+  beast::get_lowest_layer(ws_).socket().set_option(boost::asio::socket_base::send_buffer_size(256 * 1024), ignored);
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.read_message_max(4096);  // clients only send pings
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {

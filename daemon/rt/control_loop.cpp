@@ -24,6 +24,7 @@ void ControlLoop::start_timing() noexcept {
   if (timing_started_) return;
   timing_started_ = true;
   start_ns_ = hw_.clock->now_ns();
+  ch_->counters.start_ns.store(start_ns_, std::memory_order_relaxed);
   previous_now_ns_ = start_ns_;
   next_deadline_ns_ = start_ns_ + period_ns_;
 }

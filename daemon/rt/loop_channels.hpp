@@ -36,6 +36,7 @@ struct LoopCounters {
   std::atomic<std::uint64_t> recorder_drops{0};  // must stay 0: a full ring faults the run
   std::atomic<std::uint64_t> stream_drops{0};    // live view only: dropping is allowed
   std::atomic<std::uint64_t> event_drops{0};
+  std::atomic<std::int64_t> start_ns{0};         // loop start on the clock's time line [ns]
 };
 
 struct LoopChannels {

@@ -5,6 +5,9 @@
 #include <filesystem>
 
 #include "api_server.hpp"
+#include "camera_service.hpp"
+#include "lab_worker.hpp"
+#include "sim_camera.hpp"
 #include "control_loop.hpp"
 #include "force_model.hpp"
 #include "modbus/modbus_daq.hpp"
@@ -29,6 +32,8 @@ struct RigdApp::Parts {
   std::unique_ptr<Recorder> recorder;
   std::unique_ptr<StreamHub> hub;
   std::unique_ptr<UdpPublisher> udp;
+  std::unique_ptr<CameraService> camera;
+  std::unique_ptr<LabWorker> lab;
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
@@ -90,14 +95,39 @@ void RigdApp::start_services() {
            "\n# TYPE rigd_modbus_link_errors_total counter\nrigd_modbus_link_errors_total " + std::to_string(n.link_errors) +
            "\n# TYPE rigd_modbus_bad_data_total counter\nrigd_modbus_bad_data_total " + std::to_string(n.bad_data) + "\n";
   };
+  parts_->lab = std::make_unique<LabWorker>(config_.archive.path, *parts_->hub);
+  c.lab = parts_->lab.get();
   parts_->api = std::make_unique<api::ApiServer>(c, config_.api.bind, config_.api.port);
   parts_->hub->add_sink(parts_->api.get());
   if (config_.stream.udp_enabled) {
     parts_->udp = std::make_unique<UdpPublisher>(config_.stream.udp_host, config_.stream.udp_port);
     parts_->hub->add_sink(parts_->udp.get());
   }
+  start_camera();
   parts_->hub->start();
   parts_->api->start();
+}
+
+void RigdApp::start_camera() {
+  if (config_.camera.kind == "none") return;
+  drivers::CameraSettings settings;
+  settings.width = config_.camera.width;
+  settings.height = config_.camera.height;
+  settings.frame_rate_hz = config_.camera.frame_rate_hz;
+  std::unique_ptr<drivers::Camera> camera;
+  if (config_.camera.kind == "sim") {
+    rt::LoopChannels* channels = parts_->channels.get();
+    const double surface = config_.loop.motion.surface_mm;
+    camera = std::make_unique<drivers::SimCamera>(settings, [channels, surface] {
+      const rt::StatusSnapshot st = channels->status.read();
+      return drivers::CameraScene{st.position_mm, surface, st.force_N};
+    });
+  } else {
+    throw std::runtime_error("camera.kind = \"" + config_.camera.kind + "\" is not available in this build");
+  }
+  parts_->camera = std::make_unique<CameraService>(std::move(camera), *parts_->channels, config_.stream.camera_max_hz);
+  parts_->camera->add_sink(parts_->api.get());
+  parts_->camera->start();
 }
 
 void RigdApp::start() {
@@ -120,6 +150,7 @@ void RigdApp::shutdown() {
     rt_thread_.join();  // the loop writes motor off on its way out
     spdlog::info("RT loop stopped, motor off");
   }
+  if (parts_->camera) parts_->camera->stop();
   if (parts_->hub) parts_->hub->stop();
   if (parts_->api) parts_->api->stop();
   if (parts_->recorder) parts_->recorder->stop();

@@ -28,6 +28,7 @@ class RigdApp {
   void start_drivers();
   void start_loop();
   void start_services();
+  void start_camera();
 
   config::RigdConfig config_;
   std::unique_ptr<Parts> parts_;

@@ -116,6 +116,7 @@ void StreamHub::send_batch() {
   batch.iop_mmHg = columns_.iop_mmHg;
   batch.phase = columns_.phase;
   batch.sent_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  batch.loop_start_monotonic_s = static_cast<double>(channels_->counters.start_ns.load()) * 1e-9;
   auto message = std::make_shared<const std::string>(nlohmann::json(batch).dump());
   for (StreamSink* sink : sinks_) sink->publish(message);
   columns_.clear();

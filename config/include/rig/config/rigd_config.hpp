@@ -37,7 +37,7 @@ struct GpioSection {
 };
 
 struct CameraSection {
-  std::string kind = "none";      // none, aravis, v4l2
+  std::string kind = "none";      // none, sim, aravis, v4l2
   std::string id;                 // Aravis id or IP address, or /dev/videoN
   int width = 640;
   int height = 480;

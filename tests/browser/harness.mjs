@@ -1,0 +1,78 @@
+// Shared by the browser tests: rig-sim + rigd as processes, Chromium via playwright-core.
+import { spawn, execFileSync } from "node:child_process";
+import { mkdtempSync, mkdirSync, readFileSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+import { chromium } from "playwright-core";
+
+export function args() {
+  const out = {};
+  for (let i = 2; i < process.argv.length; i += 2) out[process.argv[i].replace(/^--/, "")] = process.argv[i + 1];
+  return out;
+}
+
+function waitForLine(child, text, timeoutMs) {
+  return new Promise((resolve, reject) => {
+    let seen = "";
+    const timer = setTimeout(() => reject(new Error(`no "${text}" within ${timeoutMs} ms:\n${seen}`)), timeoutMs);
+    const onData = data => {
+      seen += data.toString();
+      const line = seen.split("\n").find(l => l.includes(text));
+      if (line) { clearTimeout(timer); resolve(line); }
+    };
+    child.stdout.on("data", onData);
+    child.stderr.on("data", onData);
+    child.on("exit", code => reject(new Error(`process exited (${code}) before "${text}":\n${seen}`)));
+  });
+}
+
+export async function startRig(bin, source, archive) {
+  const dir = mkdtempSync(join(tmpdir(), "rig-browser-"));
+  archive = archive || join(dir, "archive.sqlite");
+  const sim = spawn(join(bin, "rig-sim"), ["--port", "0"]);
+  const simLine = await waitForLine(sim, "listening on", 10000);
+  const port = simLine.trim().split(":").pop();
+  const rigd = spawn(join(bin, "rigd"), ["--config", join(source, "config/rigd.sim.toml"), "--set", `daq.port=${port}`,
+    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`]);
+  const ready = await waitForLine(rigd, "ready, API on", 20000);
+  const url = ready.slice(ready.indexOf("http://")).trim();
+  return {url, dir, archive, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};
+}
+
+export async function openPage(url) {
+  const browser = await chromium.launch({
+    executablePath: "/usr/bin/chromium",
+    args: ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+           "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+  });
+  const page = await browser.newPage({viewport: {width: 1400, height: 1500}});
+  page.on("dialog", dialog => dialog.accept());  // the page asks before any motion
+  await page.goto(url);
+  return {browser, page};
+}
+
+export async function status(url) { return (await fetch(url + "/api/status")).json(); }
+
+export async function until(what, predicate, timeoutMs) {
+  const end = Date.now() + timeoutMs;
+  while (Date.now() < end) {
+    if (await predicate()) return;
+    await new Promise(r => setTimeout(r, 100));
+  }
+  throw new Error(`timed out waiting for: ${what}`);
+}
+
+export function artifacts(dir) { mkdirSync(dir, {recursive: true}); return name => join(dir, name); }
+export { execFileSync, readFileSync };
+
+// A test: prints "name: ok" or the error; the process exit code carries the verdict.
+export async function test(name, body) {
+  const started = Date.now();
+  try {
+    await body();
+    console.log(`${name}: ok (${((Date.now() - started) / 1000).toFixed(1)} s)`);
+  } catch (e) {
+    console.error(`${name}: FAILED: ${e.stack || e}`);
+    process.exitCode = 1;
+  }
+}

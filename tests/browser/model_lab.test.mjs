@@ -1,0 +1,40 @@
+// The model-lab view: runs with friction along the blade (imported into the archive), the
+// diagnosis names it, ticking it and refitting makes the error fall.
+import { args, startRig, openPage, until, artifacts, test, execFileSync } from "./harness.mjs";
+import { mkdtempSync, readdirSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { join } from "node:path";
+
+const a = args();
+const shot = artifacts(a.artifacts);
+
+await test("Browser.TogglingTheMissingEffectInTheModelLabMakesTheErrorFall", async () => {
+  const dir = mkdtempSync(join(tmpdir(), "rig-lab-"));
+  const rigCli = join(a.bin, "rig");
+  execFileSync(rigCli, ["sim", "generate", "--out", join(dir, "runs"), "--effect", "shaft_friction", "--iops", "15,18",
+                        "--velocities", "1.5,3", "--depth", "11"], {stdio: "ignore"});
+  const files = readdirSync(join(dir, "runs")).map(f => join(dir, "runs", f));
+  const archive = join(dir, "archive.sqlite");
+  execFileSync(rigCli, ["--archive", archive, "import", ...files], {stdio: "ignore"});
+  const rig = await startRig(a.bin, a.source, archive);
+  const {browser, page} = await openPage(rig.url);
+  try {
+    await page.click("button[data-view=lab]");
+    await page.waitForSelector(".run-pick");
+    await page.click("#b-diagnose");
+    await until("the diagnosis", () => page.evaluate(() => window.rig.lab.verdict !== null), 120000);
+    const verdict = await page.evaluate(() => window.rig.lab.verdict);
+    if (verdict !== "shaft_friction") throw new Error(`diagnosis named ${verdict}`);
+    if (!(await page.isChecked(".effect-pick[value=shaft_friction]"))) throw new Error("the verdict was not ticked");
+    await page.screenshot({path: shot("model-lab-diagnosis.png"), fullPage: true});
+    await page.click("#b-fit");
+    await until("the refit", () => page.evaluate(() => window.rig.lab.after !== null), 120000);
+    const lab = await page.evaluate(() => window.rig.lab);
+    if (!(lab.after < 0.5 * lab.before)) throw new Error(`error did not fall: ${lab.before} -> ${lab.after}`);
+    await page.screenshot({path: shot("model-lab-error-falls.png"), fullPage: true});
+    console.log(`  verdict ${verdict}; CV RMSE ${lab.before.toFixed(4)} N -> ${lab.after.toFixed(4)} N`);
+  } finally {
+    await browser.close();
+    rig.stop();
+  }
+});
