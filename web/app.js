@@ -9,7 +9,8 @@ const CATALOGUE = ["rate_dependence", "iop_stiffness", "shaft_friction", "rig_co
 
 // What the browser tests read (window.rig): counts of what is drawn, the state, the lab's figures.
 const rig = window.rig = {samples: 0, modelPoints: 0, residualPoints: 0, frames: 0, state: "", runId: 0,
-                          events: [], lab: {before: null, after: null, verdict: null}};
+                          events: [], lab: {before: null, after: null, verdict: null},
+                          mesh: {frames: 0, points: 0, punctured: false, maxDepth: 0, firstT: null, lastT: null}, haptic: null};
 const live = {x: [], force: [], model: [], t: [], residual: [], phases: [], curve: null};
 let token = sessionStorage.getItem("rigd-token") || "";
 
@@ -119,6 +120,8 @@ function onMessage(event) {
     $("events").prepend(li);
   } else if (m.type === "model") {
     live.curve = m;
+  } else if (m.type === "mesh") {
+    if (window.rigHaptics) window.rigHaptics.onMesh(m);
   } else if (m.type === "frame") {
     $("camera").src = "data:image/jpeg;base64," + m.jpeg_base64;
     rig.frames++;
@@ -190,6 +193,7 @@ document.querySelectorAll(".tab").forEach(tab => tab.onclick = () => {
   document.querySelectorAll(".tab").forEach(t => t.classList.toggle("active", t === tab));
   document.querySelectorAll(".view").forEach(v => v.classList.toggle("hidden", v.id !== "view-" + tab.dataset.view));
   if (tab.dataset.view === "lab") loadRuns();
+  if (tab.dataset.view === "haptics" && window.rigHaptics) window.rigHaptics.refresh();
 });
 
 async function loadRuns() {

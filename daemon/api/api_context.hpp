@@ -23,13 +23,15 @@ struct ApiCounters {
   std::atomic<std::int64_t> open_connections{0};
 };
 
-class LabService;  // model lab requests (non-RT worker), optional
+class LabService;      // model lab requests (non-RT worker), optional
+class HapticControl;  // haptic playback sessions, optional
 
 struct ApiContext {
   rt::LoopChannels* channels = nullptr;
   service::StreamHub* hub = nullptr;
   const config::RigdConfig* config = nullptr;
   LabService* lab = nullptr;
+  HapticControl* haptic = nullptr;
   bool realtime = false;
   std::string version;
   ApiAuth auth{std::nullopt};

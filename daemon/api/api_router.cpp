@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include "haptic_control.hpp"
 #include "lab_service.hpp"
 #include "run_csv.hpp"
 #include "status_view.hpp"
@@ -71,7 +72,8 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   const std::string path = path_of(request);
   const bool get = request.method() == http::verb::get;
   const bool post = request.method() == http::verb::post;
-  const bool safe_command = post && (path == "/api/stop" || path == "/api/estop");
+  // Stopping is never refused: not for want of a token either.
+  const bool safe_command = post && (path == "/api/stop" || path == "/api/estop" || path == "/api/haptic/stop");
   const bool static_file = get && path.rfind("/api/", 0) != 0 && path != "/metrics";
   if (!static_file && !safe_command && !context_->auth.authorized(request)) {
     context_->counters.refused_unauthorized.fetch_add(1);
@@ -88,6 +90,7 @@ void ApiRouter::handle(const Request& request, Responder respond) {
     if (get && std::regex_match(path, m, kRunPath)) return get_run(request, std::stoll(m[1].str()), m[2].str(), respond);
     if (path == "/api/model" && (get || post)) return model(request, respond);
     if (post && path.rfind("/api/lab/", 0) == 0) return lab(request, path.substr(9), respond);
+    if ((get || post) && (path == "/api/haptic" || path == "/api/haptic/stop")) return haptic(request, path, respond);
     if (post && (path == "/api/run" || path == "/api/arm")) return post_run(request, path == "/api/run", respond);
     if (post && path.rfind("/api/", 0) == 0 && is_loop_command(path.substr(5), kind)) return post_command(request, kind, respond);
     if (get && path == "/proto/messages.json") return respond(make_response(request, http::status::ok, proto::messages_schema_json()));
@@ -280,6 +283,33 @@ void ApiRouter::lab(const Request& request, const std::string& action, Responder
       respond(make_response(request, static_cast<http::status>(status), std::move(body)));
     });
   });
+}
+
+}  // namespace rig::api
+
+namespace rig::api {
+
+void ApiRouter::haptic(const Request& request, const std::string& path, Responder respond) {
+  HapticControl* control = context_->haptic;
+  if (control == nullptr) return respond(error_response(request, http::status::service_unavailable, "haptic playback is not available"));
+  const auto reply = [&](http::status status) {
+    respond(make_response(request, status, nlohmann::json(control->status()).dump()));
+  };
+  if (request.method() == http::verb::get) return reply(http::status::ok);
+  if (path == "/api/haptic/stop") {
+    control->stop();
+    return reply(http::status::ok);
+  }
+  const proto::HapticRequest haptic_request = parse_body(request).get<proto::HapticRequest>();
+  try {
+    if (!control->start(haptic_request)) {
+      return respond(error_response(request, http::status::conflict, "a haptic session is running: stop it first"));
+    }
+  } catch (const std::exception& e) {
+    context_->counters.refused_invalid.fetch_add(1);
+    return respond(error_response(request, http::status::bad_request, e.what(), "source"));
+  }
+  reply(http::status::accepted);
 }
 
 }  // namespace rig::api

@@ -26,6 +26,7 @@ class ApiRouter {
   void get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond);
   void model(const Request& request, Responder respond);
   void lab(const Request& request, const std::string& action, Responder respond);
+  void haptic(const Request& request, const std::string& path, Responder respond);
   archive::Archive& archive();
 
   boost::asio::io_context* io_;

@@ -8,6 +8,7 @@
 #include "cli_context.hpp"
 #include "control_commands.hpp"
 #include "demo_command.hpp"
+#include "haptic_command.hpp"
 #include "model_commands.hpp"
 #include "sim_commands.hpp"
 
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
   rig::cli::add_archive_commands(app, context, exit_code);
   rig::cli::add_demo_command(app, context, exit_code);
   rig::cli::add_model_commands(app, context, exit_code);
+  rig::cli::add_haptic_command(app, context, exit_code);
   rig::cli::add_sim_commands(app, context, exit_code);
   try {
     app.parse(argc, argv);

@@ -6,6 +6,7 @@
 
 #include "api_server.hpp"
 #include "camera_service.hpp"
+#include "haptic_service.hpp"
 #include "lab_worker.hpp"
 #include "sim_camera.hpp"
 #include "control_loop.hpp"
@@ -34,6 +35,7 @@ struct RigdApp::Parts {
   std::unique_ptr<UdpPublisher> udp;
   std::unique_ptr<CameraService> camera;
   std::unique_ptr<LabWorker> lab;
+  std::unique_ptr<HapticService> haptic;
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
@@ -99,6 +101,8 @@ void RigdApp::start_services() {
   c.lab = parts_->lab.get();
   parts_->api = std::make_unique<api::ApiServer>(c, config_.api.bind, config_.api.port);
   parts_->hub->add_sink(parts_->api.get());
+  parts_->haptic = std::make_unique<HapticService>(config_, *parts_->channels, *parts_->api);
+  c.haptic = parts_->haptic.get();
   if (config_.stream.udp_enabled) {
     parts_->udp = std::make_unique<UdpPublisher>(config_.stream.udp_host, config_.stream.udp_port);
     parts_->hub->add_sink(parts_->udp.get());
@@ -150,6 +154,7 @@ void RigdApp::shutdown() {
     rt_thread_.join();  // the loop writes motor off on its way out
     spdlog::info("RT loop stopped, motor off");
   }
+  if (parts_->haptic) parts_->haptic->stop();
   if (parts_->camera) parts_->camera->stop();
   if (parts_->hub) parts_->hub->stop();
   if (parts_->api) parts_->api->stop();

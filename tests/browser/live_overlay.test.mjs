@@ -24,9 +24,14 @@ await test("Browser.ACutStartedFromThePageFillsThePlotsAndStopStopsTheRig", asyn
     await page.click("#stop");
     await until("the rig stopped", async () => { const s = await status(rig.url); return s.state === "Done" && !s.motor_enabled; }, 5000);
     await until("the page shows Done", () => page.evaluate(() => window.rig.state === "Done"), 3000);
-    const runs = await (await fetch(rig.url + "/api/runs")).json();
-    const run = runs.runs[runs.runs.length - 1];
-    if (run.outcome !== "stopped" || run.samples < 3000) throw new Error(`run not kept as stopped: ${JSON.stringify(run)}`);
+    // The recorder closes the run once it has drained the loop's ring (asynchronously).
+    let run = null;
+    await until("the archive keeps the run as stopped", async () => {
+      const runs = await (await fetch(rig.url + "/api/runs")).json();
+      run = runs.runs[runs.runs.length - 1];
+      return run.outcome === "stopped";
+    }, 5000);
+    if (run.samples < 3000) throw new Error(`run kept with too few samples: ${JSON.stringify(run)}`);
     await page.screenshot({path: shot("live-overlay-stopped.png"), fullPage: true});
     console.log(`  drawn ${drawn.samples} samples, ${drawn.model} with model and residual, ${drawn.frames} camera frames; run ${run.run_id} ${run.outcome}`);
   } finally {

@@ -14,6 +14,7 @@
 #include <regex>
 
 #include "rig_processes.hpp"
+#include "ws_client.hpp"
 
 namespace rig {
 namespace {
@@ -22,24 +23,7 @@ namespace beast = boost::beast;
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-struct WsClient {
-  boost::asio::io_context io;
-  beast::websocket::stream<beast::tcp_stream> ws{io};
-  explicit WsClient(const std::string& url, int receive_buffer = 0) {
-    std::smatch m;
-    std::regex_search(url, m, std::regex(R"(http://([^:]+):(\d+))"));
-    auto& socket = beast::get_lowest_layer(ws).socket();
-    socket.open(boost::asio::ip::tcp::v4());
-    if (receive_buffer > 0) socket.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer));
-    socket.connect({boost::asio::ip::make_address(m[1].str()), static_cast<unsigned short>(std::stoi(m[2].str()))});
-    ws.handshake(m[1].str(), "/ws");
-  }
-  json next() {
-    beast::flat_buffer buffer;
-    ws.read(buffer);
-    return json::parse(beast::buffers_to_string(buffer.data()));
-  }
-};
+using testing::WsClient;
 
 std::int64_t metric(const std::string& text, const std::string& name) {
   std::smatch m;

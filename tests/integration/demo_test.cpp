@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "rig/sim/physics_params.hpp"
+#include "command.hpp"
 #include "test_paths.hpp"
 
 namespace rig {
@@ -16,14 +17,9 @@ TEST(Demo, OnceAsJsonCutsTwoThousandSamplesPerMillimetreAndFindsThePeakWhereTheT
   const std::string command = testing::bin("rig") + " --format json demo --once --port 0 --sim " + testing::bin("rig-sim") +
                               " --rigd " + testing::bin("rigd") + " --config " + testing::source("config/rigd.sim.toml") +
                               " --state-dir " + dir.path().string();
-  std::array<char, 4096> buffer{};
-  std::string out;
-  FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  while (fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
-  const int status = pclose(pipe);
-  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
-  const auto j = nlohmann::json::parse(out);
+  const testing::CommandResult demo = testing::run_command(command, false);
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  const auto j = nlohmann::json::parse(demo.output);
   for (const char* key : {"run_id", "samples", "velocity_mean_mm_s", "velocity_error_pct", "peak_force_N", "x_at_peak_mm"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }

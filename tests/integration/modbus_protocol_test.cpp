@@ -9,6 +9,7 @@
 #include <memory>
 #include <thread>
 
+#include "command.hpp"
 #include "modbus/modbus_daq.hpp"
 #include "modbus_sim_server.hpp"
 #include "sim_panel.hpp"
@@ -121,14 +122,7 @@ TEST_F(ModbusProtocolTest, TheEstopButtonOnThePanelReachesTheDigitalInputs) {
   EXPECT_TRUE(inputs.estop);
 }
 
-std::string run_command(const std::string& command) {
-  std::array<char, 512> buffer{};
-  std::string out;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  while (pipe != nullptr && fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
-  if (pipe != nullptr) pclose(pipe);
-  return out;
-}
+std::string run_command(const std::string& command) { return testing::run_command(command).output; }
 
 TEST_F(ModbusProtocolTest, MbpollAnIndependentClientReadsTheRegisterMap) {
   const std::string port = std::to_string(server_->port());

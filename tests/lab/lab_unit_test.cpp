@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 
+#include "command.hpp"
 #include "comparison.hpp"
 #include "diagnosis.hpp"
 #include "lab_scenarios.hpp"
@@ -115,12 +116,7 @@ TEST(SavedModels, CarryTheirEffectsToTheComparison) {
 }
 
 std::string run_rig(const std::string& args) {
-  std::array<char, 4096> buffer{};
-  std::string out;
-  FILE* pipe = popen((testing::bin("rig") + " " + args + " 2>/dev/null").c_str(), "r");
-  while (pipe != nullptr && fgets(buffer.data(), buffer.size(), pipe) != nullptr) out += buffer.data();
-  if (pipe != nullptr) pclose(pipe);
-  return out;
+  return testing::run_command(testing::bin("rig") + " " + args, false).output;
 }
 
 TEST(Cli, DiagnoseAndFitPrintTheDocumentedJson) {

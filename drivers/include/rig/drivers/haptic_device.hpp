@@ -1,10 +1,11 @@
 #pragma once
-// Haptic device (Phantom via OpenHaptics, or simulated). The servo loop owns the
-// device: begin_frame/read position/set force/end_frame once per 1 ms tick.
+// Haptic device (Phantom via OpenHaptics, or simulated). The device owns the servo clock
+// (OpenHaptics' scheduler calls back at 1 kHz; the simulated device runs its own RT
+// thread): each tick it hands the end-effector position to the servo and applies the force
+// it returns.
 #include <array>
+#include <cstdint>
 #include <string>
-
-#include "rig/drivers/io_status.hpp"
 
 namespace rig::drivers {
 
@@ -18,17 +19,41 @@ struct HapticLimits {
 
 enum class HapticFault : std::uint8_t { kNone, kWarmMotors, kExceededMaxForce, kExceededMaxVelocity,
                                         kCommError, kOther };
+inline const char* to_string(HapticFault fault) noexcept {
+  switch (fault) {
+    case HapticFault::kNone: return "none";
+    case HapticFault::kWarmMotors: return "motors too warm (HD_WARM_MOTORS): force off, let the device cool";
+    case HapticFault::kExceededMaxForce: return "maximum force exceeded (HD_EXCEEDED_MAX_FORCE): force off";
+    case HapticFault::kExceededMaxVelocity: return "maximum velocity exceeded (HD_EXCEEDED_MAX_VELOCITY): force off";
+    case HapticFault::kCommError: return "device communication error (HD_COMM_ERROR): force off, check the cable";
+    case HapticFault::kOther: return "device error: force off";
+  }
+  return "unknown";
+}
+
+class HapticServo {
+ public:
+  virtual ~HapticServo() = default;
+  // One servo tick on the device's real-time thread: position [mm] in, force [N] out.
+  virtual Vec3 tick(const Vec3& position_mm, double t_s) noexcept = 0;
+  // The device reported an error: force is already off.
+  virtual void device_fault(HapticFault fault) noexcept = 0;
+};
 
 class HapticDevice {
  public:
   virtual ~HapticDevice() = default;
   virtual std::string describe() const = 0;
-  virtual HapticLimits limits() const noexcept = 0;
-  // One servo tick: reads the end-effector position [mm] and applies force [N].
-  virtual IoStatus read_position(Vec3& position_mm) noexcept = 0;
-  virtual IoStatus write_force(const Vec3& force_N) noexcept = 0;
-  // Latest device fault (cleared by reading it); any fault means force off.
-  virtual HapticFault take_fault() noexcept = 0;
+  virtual HapticLimits limits() const noexcept = 0;  // read from the device at run time
+  virtual void start(HapticServo& servo) = 0;          // setup: throws with a clear message
+  virtual void stop() noexcept = 0;
+  virtual void force_off() noexcept = 0;               // safety: zero force now, from any thread
+  virtual std::uint64_t ticks() const noexcept = 0;
+  virtual bool running() const noexcept = 0;  // the servo is being called
+  // Time from the servo's force command to that force at the hand [s] (transport and
+  // amplifier lag), so the servo can predict the position it renders for.
+  virtual double output_latency_s() const noexcept = 0;
+  virtual double period_s() const noexcept = 0;  // servo period [s]
 };
 
 }  // namespace rig::drivers

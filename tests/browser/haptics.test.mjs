@@ -1,0 +1,35 @@
+// The Haptics view: a simulated-Phantom session started from the page plays the model,
+// the cornea's cross-section arrives at >= 30 Hz and shows the puncture, and the session's
+// figures (felt vs model) are shown when it ends.
+import { args, startRig, openPage, until, artifacts, test } from "./harness.mjs";
+
+const a = args();
+const shot = artifacts(a.artifacts);
+
+await test("Browser.AHapticSessionStartedFromThePageDrawsTheCorneaDentingAndOpening", async () => {
+  const rig = await startRig(a.bin, a.source);
+  const {browser, page} = await openPage(rig.url);
+  try {
+    await page.click("button[data-view=haptics]");
+    await page.fill("#haptic-form input[name=velocity_mm_s]", "4");
+    await page.click("#b-haptic-start");
+    await until("the tissue dented under the tip", () => page.evaluate(() => window.rig.mesh.maxDepth > 0.5), 60000);
+    await page.screenshot({path: shot("haptics-dent.png"), fullPage: true});
+    await until("the puncture", () => page.evaluate(() => window.rig.mesh.punctured), 60000);
+    await page.screenshot({path: shot("haptics-cut-open.png"), fullPage: true});
+    await until("the session's end", () => page.evaluate(() => window.rig.haptic && window.rig.haptic.state !== "running"), 120000);
+    const {mesh, haptic} = await page.evaluate(() => ({mesh: window.rig.mesh, haptic: window.rig.haptic}));
+    if (haptic.state !== "done") throw new Error(`session ended ${haptic.state}: ${haptic.error}`);
+    if (mesh.points !== 13) throw new Error(`cross-section has ${mesh.points} points, expected 13`);
+    const rate = (mesh.frames - 1) / (mesh.lastT - mesh.firstT);
+    if (!(rate >= 30)) throw new Error(`mesh frames arrived at ${rate.toFixed(1)} Hz`);
+    if (!(haptic.rmse_vs_model_N < 0.004)) throw new Error(`felt vs model RMSE ${haptic.rmse_vs_model_N} N`);
+    if (haptic.mesh_vertices !== 169 || haptic.mesh_springs !== 886) throw new Error(`mesh ${haptic.mesh_vertices}/${haptic.mesh_springs}`);
+    const table = await page.textContent("#haptic-status");
+    if (!table.includes("felt vs model")) throw new Error("the session's figures are not shown: " + table);
+    console.log(`  ${mesh.frames} mesh frames at ${rate.toFixed(1)} Hz; felt vs model RMSE ${(haptic.rmse_vs_model_N * 1000).toFixed(3)} mN`);
+  } finally {
+    await browser.close();
+    rig.stop();
+  }
+});

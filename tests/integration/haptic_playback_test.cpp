@@ -1,0 +1,226 @@
+// Haptic playback end to end in one process: the simulated Phantom with a virtual hand
+// against the model and a recorded run (the paper's fidelity figures), the stall watchdog
+// on a real-time servo, and the OpenHaptics path through dlopen: a missing library, a
+// library that is not libHD, and a stand-in libHD with the real C ABI (tests/support).
+#include <dlfcn.h>
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "felt_error.hpp"
+#include "haptic/openhaptics_device.hpp"
+#include "haptic_session.hpp"
+#include "model_force_source.hpp"
+#include "playback.hpp"
+#include "recorded_run_source.hpp"
+#include "run_generator.hpp"
+#include "servo_loop.hpp"
+#include "sim_phantom.hpp"
+#include "test_paths.hpp"
+#include "virtual_hand.hpp"
+
+namespace rig::haptic {
+namespace {
+
+PlaybackResult play_model(double velocity_mm_s, double iop_mmHg) {
+  PlaybackOptions o;
+  o.velocity_mm_s = velocity_mm_s;
+  o.iop_mmHg = iop_mmHg;
+  o.real_time = false;
+  Playback playback(o, model::ForceModel::paper_interpreted(), std::nullopt);
+  return playback.run(nullptr, nullptr);
+}
+
+TEST(HapticPlayback, TheSimulatedPhantomAt2MmPerSecondAndIop15FeelsTheModelBetterThanThePaper) {
+  const PlaybackResult result = play_model(2.0, 15.0);
+  ASSERT_TRUE(result.vs_model);
+  const ErrorFigures& e = *result.vs_model;
+  std::printf("haptic vs model at 2 mm/s, IOP 15: RMSE %.5f N, max %.5f N at %.3f mm over %zu ticks in contact\n", e.rmse_N,
+              e.max_N, e.max_at_depth_mm, e.samples);
+  EXPECT_GT(e.samples, 9000U);     // 9.85 mm in and out at 2 mm/s
+  EXPECT_LT(e.rmse_N, 0.004);      // the paper's figures
+  EXPECT_LT(e.max_N, 0.016);
+  EXPECT_LT(e.rmse_N, 0.001);      // our aim
+  EXPECT_LT(e.max_N, 0.005);
+  EXPECT_EQ(result.report.nonfinite_forces, 0U);
+  EXPECT_EQ(result.report.clamped_ticks, 0U);
+  EXPECT_EQ(result.report.mesh_vertices, 169);
+  EXPECT_EQ(result.report.mesh_springs, 886);
+}
+
+TEST(HapticPlayback, StaysWithinThePapersFiguresAcrossTheRigsVelocitiesAndPressures) {
+  for (const double v : {0.5, 4.0}) {
+    for (const double iop : {15.0, 18.0}) {
+      const PlaybackResult result = play_model(v, iop);
+      EXPECT_LT(result.vs_model->rmse_N, 0.004) << v << " mm/s, IOP " << iop;
+      EXPECT_LT(result.vs_model->max_N, 0.016) << v << " mm/s, IOP " << iop;
+    }
+  }
+}
+
+// The same session with the raw encoder counts rendered: the error metric must see it.
+TEST(HapticPlayback, RenderingTheRawEncoderCountsWouldBeSeveralTimesWorse) {
+  const model::ForceModel model = model::ForceModel::paper_interpreted();
+  ModelForceSource source(model, 15.0);
+  drivers::PushingHand hand(2.0, 9.85);
+  drivers::SimPhantomSettings settings;
+  settings.real_time = false;
+  drivers::SimPhantom device(settings, hand);
+  ServoSettings servo;
+  servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};
+  servo.estimate_between_counts = false;
+  servo.count_late_ticks = false;
+  HapticSession session(device, source, servo);
+  session.run(nullptr, nullptr, 60.0);
+  const ErrorFigures raw = felt_error(device.felt(), source);
+  const ErrorFigures estimated = *play_model(2.0, 15.0).vs_model;
+  std::printf("raw counts: RMSE %.5f N, max %.5f N; estimated: RMSE %.5f N, max %.5f N\n", raw.rmse_N, raw.max_N,
+              estimated.rmse_N, estimated.max_N);
+  EXPECT_GT(raw.max_N, 5.0 * estimated.max_N);
+}
+
+TEST(HapticPlayback, ARecordedRunIsFeltAsItsForceDisplacementCurveAndComparedWithTheModel) {
+  sim::RunSpec spec;
+  spec.depth_mm = 10.0;
+  spec.eye_id = "HAPTIC-1";
+  const model::RunData run = sim::generate_run(sim::GeneratorOptions{}, spec);
+  PlaybackOptions o;
+  o.source = SourceSpec::parse("run:HAPTIC-1");
+  o.real_time = false;
+  Playback playback(o, model::ForceModel::paper_interpreted(), run);
+  const PlaybackResult result = playback.run(nullptr, nullptr);
+  ASSERT_TRUE(result.vs_run && result.vs_model);
+  std::printf("run source: haptic vs run RMSE %.5f N, max %.5f N; vs model RMSE %.5f N, max %.5f N\n", result.vs_run->rmse_N,
+              result.vs_run->max_N, result.vs_model->rmse_N, result.vs_model->max_N);
+  EXPECT_LT(result.vs_run->rmse_N, 0.004);
+  EXPECT_LT(result.vs_run->max_N, 0.016);
+  EXPECT_GT(result.vs_model->rmse_N, result.vs_run->rmse_N);  // the run is not the model
+}
+
+class BlockingSource final : public ForceSource {
+ public:
+  double force_N(double depth_mm, double, double) const noexcept override {
+    if (armed_.load() && depth_mm > 0.5 && !blocked_.exchange(true)) std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    return depth_mm > 0.0 ? 0.05 * depth_mm : 0.0;  // 0.05 N/mm: renderable
+  }
+  const char* describe() const noexcept override { return "blocking"; }
+  std::atomic<bool> armed_{false};  // not while the session checks the source at setup
+  mutable std::atomic<bool> blocked_{false};
+};
+
+TEST(HapticPlayback, TheWatchdogTurnsForceOffWhenTheServoStalls) {
+  BlockingSource source;
+  drivers::PushingHand hand(4.0, 1.0, -0.2, 0.2);
+  drivers::SimPhantom device(drivers::SimPhantomSettings{}, hand);
+  ServoSettings servo;
+  servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};
+  HapticSession session(device, source, servo, std::chrono::milliseconds(20));
+  source.armed_ = true;
+  const SessionReport report = session.run(nullptr, nullptr, 10.0);
+  EXPECT_TRUE(report.watchdog_tripped);
+  EXPECT_TRUE(device.forced_off());
+  EXPECT_GE(report.longest_stall_ms, 20.0);
+  EXPECT_NE(report.fault.find("stalled"), std::string::npos) << report.fault;
+}
+
+TEST(HapticPlayback, TheWatchdogStaysQuietOnAHealthyRealTimeServo) {
+  PlaybackOptions o;
+  o.velocity_mm_s = 4.0;
+  o.depth_mm = 1.0;
+  Playback playback(o, model::ForceModel::paper_interpreted(), std::nullopt);
+  const PlaybackResult result = playback.run(nullptr, nullptr);
+  EXPECT_FALSE(result.report.watchdog_tripped);
+  EXPECT_TRUE(result.report.fault.empty()) << result.report.fault;
+  EXPECT_GT(result.report.ticks, 1000U);
+  EXPECT_GT(result.report.rate_hz, 500.0);  // a sanity bound: timing figures are in bench-haptic
+}
+
+TEST(OpenHaptics, AMissingLibHdIsAClearErrorThatPointsToTheSimulatedDevice) {
+  try {
+    drivers::OpenHapticsDevice device("/nonexistent/libHD.so");
+    FAIL() << "a missing library was loaded";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("/nonexistent/libHD.so"), std::string::npos) << what;
+    EXPECT_NE(what.find("--device sim"), std::string::npos) << what;
+  }
+}
+
+TEST(OpenHaptics, ALibraryWithoutTheHdApiIsRefusedNamingTheMissingSymbol) {
+  try {
+    drivers::OpenHapticsDevice device("libm.so.6");
+    FAIL() << "libm was taken for libHD";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("hdInitDevice"), std::string::npos) << e.what();
+  }
+}
+
+struct FakeHd {
+  void* handle = dlopen(RIG_FAKE_LIBHD, RTLD_NOW | RTLD_LOCAL);
+  ~FakeHd() {
+    if (handle != nullptr) dlclose(handle);
+  }
+  template <typename F>
+  F symbol(const char* name) const { return reinterpret_cast<F>(dlsym(handle, name)); }
+};
+
+TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReports) {
+  FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr) << dlerror();
+  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
+  EXPECT_DOUBLE_EQ(device.limits().max_continuous_force_N, 0.6);
+  EXPECT_DOUBLE_EQ(device.limits().max_stiffness_N_per_mm, 0.9);
+  const model::ForceModel model = model::ForceModel::paper_interpreted();
+  ModelForceSource source(model, 15.0);
+  ServoSettings servo;
+  servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the fake stylus reaches it after 1.5 s
+  HapticSession session(device, source, servo);
+  const SessionReport report = session.run(nullptr, nullptr, 2.5);
+  EXPECT_TRUE(report.fault.empty()) << report.fault;
+  EXPECT_GT(report.ticks, 1500U);
+  EXPECT_DOUBLE_EQ(report.force_limit_N, 0.6);
+  EXPECT_GT(fake.symbol<long (*)()>("fake_hd_frames")(), 1500);
+  // 1 mm deep (after 2 s, the ramp-in long over): the model's toe and pre-cut, pushing the
+  // stylus back out (+z).
+  const double at_1mm = fake.symbol<double (*)()>("fake_hd_force_at_1mm")();
+  EXPECT_NEAR(at_1mm, model.baseline(1.0, 15.0), 0.01);
+  EXPECT_GT(at_1mm, 0.0);
+  // Stopping the session turns the force off.
+  EXPECT_EQ(fake.symbol<double (*)()>("fake_hd_last_force_z")(), 0.0);
+}
+
+TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault) {
+  FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr) << dlerror();
+  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
+  const model::ForceModel model = model::ForceModel::paper_interpreted();
+  ModelForceSource source(model, 15.0);
+  HapticSession session(device, source, ServoSettings{});
+  std::thread injector([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    fake.symbol<void (*)(unsigned)>("fake_hd_inject_error")(drivers::hd::kWarmMotors);
+  });
+  const SessionReport report = session.run(nullptr, nullptr, 5.0);
+  injector.join();
+  EXPECT_NE(report.fault.find("HD_WARM_MOTORS"), std::string::npos) << report.fault;
+  EXPECT_LT(report.wall_s, 2.0);
+  EXPECT_EQ(fake.symbol<int (*)()>("fake_hd_force_output_enabled")(), 0);
+  EXPECT_EQ(fake.symbol<double (*)()>("fake_hd_last_force_z")(), 0.0);
+}
+
+TEST(OpenHaptics, ADeviceThatFailsToInitialiseIsAClearError) {
+  FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr) << dlerror();
+  fake.symbol<void (*)(unsigned)>("fake_hd_fail_init")(drivers::hd::kCommError);
+  try {
+    drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
+    FAIL() << "initialised";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot initialise"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rig::haptic
