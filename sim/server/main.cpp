@@ -30,6 +30,8 @@ int main(int argc, char** argv) {
   int rt_priority = 70;
   app.add_option("--bind", options.bind, "address to listen on (loopback by default)");
   app.add_option("--port", options.port, "TCP port, 0 = any free port")->check(CLI::Range(0, 65535));
+  app.add_option("--rtu", options.rtu_device, "also serve Modbus RTU on this serial device (e.g. a socat pty)");
+  app.add_option("--rtu-baud", options.rtu_baud, "RTU baud rate")->check(CLI::Range(1200, 4000000));
   app.add_option("--port-file", port_file, "write the port here once listening");
   app.add_option("--seed", physics.seed, "random seed (noise, per-eye variation)");
   app.add_option("--effect", effect_specs, "hide an effect: name[:form][=size] or covariate:KEY[:form][=size]");
@@ -65,6 +67,7 @@ int main(int argc, char** argv) {
         std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
       }
     }
+    if (!options.rtu_device.empty()) std::cout << "rig-sim: Modbus RTU on " << options.rtu_device << std::endl;
     std::cout << "rig-sim: listening on " << options.bind << ":" << server.port() << std::endl;
     server.run(g_stop);
   } catch (const std::exception& e) {

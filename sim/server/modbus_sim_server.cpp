@@ -43,6 +43,13 @@ ModbusSimServer::ModbusSimServer(RigPhysics& physics, const SimServerOptions& op
   socklen_t length = sizeof address;
   getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&address), &length);
   port_ = ntohs(address.sin_port);
+  if (!options.rtu_device.empty()) {
+    rtu_ctx_.reset(modbus_new_rtu(options.rtu_device.c_str(), options.rtu_baud, 'N', 8, 1));
+    if (!rtu_ctx_ || modbus_connect(rtu_ctx_.get()) != 0) {
+      throw std::runtime_error("rig-sim: cannot open the RTU line " + options.rtu_device + ": " + modbus_strerror(errno));
+    }
+    modbus_set_slave(rtu_ctx_.get(), reg::kUnitId);
+  }
   start_wall_s_ = wall_time_s();
   start_wall_s_ -= physics_->time_s();
   std::lock_guard lock(mutex_);
@@ -124,37 +131,29 @@ void ModbusSimServer::accept_client(std::vector<int>& clients) {
   clients.push_back(fd);
 }
 
-void ModbusSimServer::serve_client(int fd, std::vector<int>& clients) {
-  std::uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];
-  modbus_set_socket(ctx_.get(), fd);
-  const int length = modbus_receive(ctx_.get(), query);
-  auto forget = [&] {
-    close(fd);
-    clients.erase(std::remove(clients.begin(), clients.end(), fd), clients.end());
-  };
-  if (length < 0) return forget();
-  if (length == 0) return;  // addressed to another unit
+ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
+  std::uint8_t query[MODBUS_TCP_MAX_ADU_LENGTH];  // larger than any RTU frame (256 B)
+  const int length = modbus_receive(ctx, query);
+  if (length < 0) return Served::kPeerGone;
+  if (length == 0) return Served::kOk;  // addressed to another unit
   std::uint16_t late_us = 0;
   bool garbage = false;
   {
     std::lock_guard lock(mutex_);
-    if (mapping_->tab_registers[reg::sim_panel::kLinkDrop] != 0) {
-      drop_all(clients);
-      return;
-    }
+    if (mapping_->tab_registers[reg::sim_panel::kLinkDrop] != 0) return Served::kLinkCut;
     late_us = mapping_->tab_registers[reg::sim_panel::kLateReplyUs];
     garbage = mapping_->tab_registers[reg::sim_panel::kGarbageReplies] != 0;
   }
   if (late_us > 0) std::this_thread::sleep_for(std::chrono::microseconds(late_us));
   std::lock_guard lock(mutex_);
   refresh_registers();
-  const int header = modbus_get_header_length(ctx_.get());
+  const int header = modbus_get_header_length(ctx);
   const int function = query[header];
   const int address = (query[header + 1] << 8) | query[header + 2];
   if (garbage && function == MODBUS_FC_READ_INPUT_REGISTERS) {
     std::fill_n(mapping_->tab_input_registers, reg::input::kCount, std::uint16_t{0xFFFF});
   }
-  const int rc = modbus_reply(ctx_.get(), query, length, mapping_.get());
+  const int rc = modbus_reply(ctx, query, length, mapping_.get());
   const bool write = function == MODBUS_FC_WRITE_SINGLE_REGISTER || function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
                      function == MODBUS_FC_WRITE_AND_READ_REGISTERS;
   if (write) {
@@ -173,7 +172,23 @@ void ModbusSimServer::serve_client(int fd, std::vector<int>& clients) {
       physics_->write_outputs(drive, digital);
     }
   }
-  if (rc < 0) forget();
+  return rc < 0 ? Served::kPeerGone : Served::kOk;
+}
+
+void ModbusSimServer::serve_client(int fd, std::vector<int>& clients) {
+  modbus_set_socket(ctx_.get(), fd);
+  const Served served = serve_request(ctx_.get());
+  if (served == Served::kLinkCut) return drop_all(clients);
+  if (served == Served::kPeerGone) {
+    close(fd);
+    clients.erase(std::remove(clients.begin(), clients.end(), fd), clients.end());
+  }
+}
+
+void ModbusSimServer::serve_rtu() {
+  // A serial line has no connection to drop: a cut link is a DAQ that stays silent, and a
+  // broken frame (CRC, gap) is flushed so the next request starts clean.
+  if (serve_request(rtu_ctx_.get()) == Served::kPeerGone) modbus_flush(rtu_ctx_.get());
 }
 
 void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
@@ -201,6 +216,11 @@ void ModbusSimServer::run(const std::atomic<bool>& stop) {
     FD_ZERO(&read_set);
     FD_SET(listen_fd_, &read_set);
     int max_fd = listen_fd_;
+    const int rtu_fd = rtu_ctx_ ? modbus_get_socket(rtu_ctx_.get()) : -1;
+    if (rtu_fd >= 0) {
+      FD_SET(rtu_fd, &read_set);
+      max_fd = std::max(max_fd, rtu_fd);
+    }
     for (const int fd : clients) {
       FD_SET(fd, &read_set);
       max_fd = std::max(max_fd, fd);
@@ -209,6 +229,7 @@ void ModbusSimServer::run(const std::atomic<bool>& stop) {
     const int ready = select(max_fd + 1, &read_set, nullptr, nullptr, &timeout);
     if (ready <= 0) continue;
     if (FD_ISSET(listen_fd_, &read_set)) accept_client(clients);
+    if (rtu_fd >= 0 && FD_ISSET(rtu_fd, &read_set)) serve_rtu();
     const std::vector<int> snapshot = clients;
     for (const int fd : snapshot) {
       if (FD_ISSET(fd, &read_set) && std::find(clients.begin(), clients.end(), fd) != clients.end()) serve_client(fd, clients);

@@ -1,5 +1,5 @@
 #pragma once
-// rig-sim's Modbus TCP server: the simulated rig's DAQ behind the real register map
+// rig-sim's Modbus TCP (and optionally RTU) server: the simulated rig's DAQ behind the real register map
 // (proto/include/rig/proto/daq_register_map.hpp). Any Modbus client can talk to it: rigd,
 // mbpoll, a lab's own tools. Physics advances on every request (a DAQ converts
 // continuously) and in the background, so the DAQ watchdog runs without requests too.
@@ -20,6 +20,10 @@ namespace rig::sim {
 struct SimServerOptions {
   std::string bind = "127.0.0.1";
   int port = 1502;  // 0 = any free port
+  // Also serve Modbus RTU on this serial line (a real port, or a pty from socat), with the
+  // same registers: the DAQ on RTU while tests and mbpoll keep the TCP panel.
+  std::string rtu_device;
+  int rtu_baud = 115200;
 };
 
 class ModbusSimServer {
@@ -44,12 +48,16 @@ class ModbusSimServer {
   double wall_time_s() const;
   void refresh_registers();  // physics -> input registers (mutex held)
   void apply_writes();       // holding registers -> physics and faults (mutex held)
+  enum class Served { kOk, kPeerGone, kLinkCut };
+  Served serve_request(_modbus* ctx);  // one request on a TCP client or the RTU line
   void serve_client(int fd, std::vector<int>& clients);
+  void serve_rtu();
   void accept_client(std::vector<int>& clients);
   void drop_all(std::vector<int>& clients);
 
   RigPhysics* physics_;
   std::unique_ptr<_modbus, ModbusCloser> ctx_;
+  std::unique_ptr<_modbus, ModbusCloser> rtu_ctx_;  // null: TCP only
   std::unique_ptr<_modbus_mapping_t, MappingFree> mapping_;
   std::mutex mutex_;  // guards physics_ and mapping_
   int listen_fd_ = -1;
