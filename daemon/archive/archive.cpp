@@ -28,6 +28,11 @@ CREATE TABLE IF NOT EXISTS channels (
 CREATE TABLE IF NOT EXISTS events (
   run_id INTEGER NOT NULL, t_s REAL NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
 CREATE INDEX IF NOT EXISTS events_by_run ON events(run_id);
+CREATE TABLE IF NOT EXISTS frames (
+  run_id INTEGER NOT NULL, frame_no INTEGER NOT NULL, sample_index INTEGER NOT NULL,
+  camera_ts_ns INTEGER NOT NULL, host_ts_ns INTEGER NOT NULL, file TEXT NOT NULL,
+  file_offset INTEGER NOT NULL, bytes INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL,
+  PRIMARY KEY (run_id, frame_no)) WITHOUT ROWID;
 )sql";
 
 std::string format_number(double value) {

@@ -51,6 +51,20 @@ struct EventRow {
   std::string message;
 };
 
+// One camera frame of a run: where it is in the run's frame file and which sample (loop
+// cycle) its exposure was triggered at.
+struct FrameRow {
+  std::int64_t run_id = 0;
+  std::int64_t frame_no = 0;      // 0, 1, ... in the run
+  std::int64_t sample_index = -1; // loop cycle of the trigger (-1: free-running, not tied)
+  std::int64_t camera_ts_ns = 0;  // camera's clock
+  std::int64_t host_ts_ns = 0;    // CLOCK_MONOTONIC at arrival
+  std::int64_t file_offset = 0;   // [B] into the frame file
+  std::int64_t bytes = 0;
+  int width = 0, height = 0;
+  std::string file;               // the run's frame file
+};
+
 class Archive {
  public:
   explicit Archive(const std::string& path, bool read_only = false);
@@ -71,6 +85,8 @@ class Archive {
   std::vector<EventRow> run_events(std::int64_t run_id);
   // The run as run-CSV data: t from its first sample, x from first contact.
   model::RunData load_run(std::int64_t run_id);
+  void add_frame(const FrameRow& frame);                 // archive_frames.cpp
+  std::vector<FrameRow> run_frames(std::int64_t run_id);
   std::int64_t import_run(const model::RunData& run);
   const std::string& path() const { return db_.path(); }
 

@@ -1,0 +1,66 @@
+#include "frame_sample_mapper.hpp"
+
+#include <cstdlib>
+
+namespace rig::archive {
+
+void FrameSampleMapper::on_trigger(std::int64_t sample_index, std::uint64_t host_ns) {
+  std::lock_guard lock(mutex_);
+  pending_.push_back({sample_index, host_ns});
+  constexpr std::size_t kMaxPending = 4096;  // a camera that never answers must not grow this
+  if (pending_.size() > kMaxPending) pending_.pop_front(), ++lost_;
+}
+
+void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
+  if (next_frame_id_ && frame_id > *next_frame_id_) {
+    // The camera skipped ids: those frames' triggers will never be answered.
+    for (std::uint64_t gap = frame_id - *next_frame_id_; gap > 0 && !pending_.empty(); --gap) pending_.pop_front(), ++lost_;
+  }
+  next_frame_id_ = frame_id + 1;
+}
+
+// Index into pending_ of the trigger this frame answers (pending_ holds at least one trigger
+// raised before the arrival).
+std::size_t FrameSampleMapper::nearest_pending(std::uint64_t camera_ns, std::uint64_t arrival_ns) {
+  const auto offset = static_cast<std::int64_t>(arrival_ns) - static_cast<std::int64_t>(camera_ns);
+  if (!camera_to_host_ns_ || offset < *camera_to_host_ns_) camera_to_host_ns_ = offset;
+  const std::int64_t exposed_host_ns = static_cast<std::int64_t>(camera_ns) + *camera_to_host_ns_;
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < pending_.size() && pending_[i].host_ns <= arrival_ns; ++i) {
+    const auto distance = [&](std::size_t k) { return std::llabs(static_cast<std::int64_t>(pending_[k].host_ns) - exposed_host_ns); };
+    if (distance(i) < distance(best)) best = i;
+  }
+  return best;
+}
+
+std::optional<std::int64_t> FrameSampleMapper::on_frame(std::uint64_t frame_id, std::uint64_t camera_ns, std::uint64_t arrival_ns) {
+  std::lock_guard lock(mutex_);
+  if (camera_ns == 0) drop_skipped_ids(frame_id);
+  if (pending_.empty() || pending_.front().host_ns > arrival_ns) {
+    ++untied_;
+    return std::nullopt;
+  }
+  const std::size_t k = camera_ns == 0 ? 0 : nearest_pending(camera_ns, arrival_ns);
+  const Trigger claimed = pending_[k];
+  pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(k) + 1);
+  lost_ += k;
+  last_latency_ns_ = arrival_ns - claimed.host_ns;
+  return claimed.sample_index;
+}
+
+std::uint64_t FrameSampleMapper::lost_frames() const {
+  std::lock_guard lock(mutex_);
+  return lost_;
+}
+
+std::uint64_t FrameSampleMapper::untied_frames() const {
+  std::lock_guard lock(mutex_);
+  return untied_;
+}
+
+std::uint64_t FrameSampleMapper::last_latency_ns() const {
+  std::lock_guard lock(mutex_);
+  return last_latency_ns_;
+}
+
+}  // namespace rig::archive

@@ -1,0 +1,43 @@
+#pragma once
+// Ties each camera frame to the sample (loop cycle) at which its exposure was triggered.
+// The loop raises the trigger at a known cycle; the frame arrives later, possibly after the
+// next trigger (latency is not bounded by the trigger period), and a camera may merge two
+// close triggers into one frame. So the pairing uses the camera's own timestamp of the
+// exposure: mapped to the host clock through the smallest (arrival - camera time) seen so
+// far, it points at the trigger nearest to it among those raised before the frame arrived;
+// older pending triggers got no frame (lost). Without camera timestamps (0), frames and
+// triggers pair in order, and a gap in the camera's frame ids drops as many triggers.
+// A frame that arrives before any pending trigger was raised is not tied to a sample.
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <optional>
+
+namespace rig::archive {
+
+class FrameSampleMapper {
+ public:
+  void on_trigger(std::int64_t sample_index, std::uint64_t host_ns);
+  // frame_id: the camera's frame/block counter; camera_ns: its exposure timestamp (0 if it
+  // has none); arrival [ns, CLOCK_MONOTONIC].
+  std::optional<std::int64_t> on_frame(std::uint64_t frame_id, std::uint64_t camera_ns, std::uint64_t arrival_ns);
+  std::uint64_t lost_frames() const;       // triggers that never got a frame
+  std::uint64_t untied_frames() const;     // frames with no trigger before them
+  // Latency of the last tied frame, trigger to arrival [ns].
+  std::uint64_t last_latency_ns() const;
+
+ private:
+  struct Trigger {
+    std::int64_t sample_index;
+    std::uint64_t host_ns;
+  };
+  mutable std::mutex mutex_;  // triggers and frames come from different threads (never the RT one)
+  std::deque<Trigger> pending_;
+  std::uint64_t lost_ = 0, untied_ = 0, last_latency_ns_ = 0;
+  std::optional<std::uint64_t> next_frame_id_;
+  std::optional<std::int64_t> camera_to_host_ns_;  // min(arrival - camera time) so far
+  void drop_skipped_ids(std::uint64_t frame_id);
+  std::size_t nearest_pending(std::uint64_t camera_ns, std::uint64_t arrival_ns);
+};
+
+}  // namespace rig::archive
