@@ -20,16 +20,17 @@ void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
 }
 
 // Index into pending_ of the trigger this frame answers (pending_ holds at least one trigger
-// raised before the arrival).
-std::size_t FrameSampleMapper::nearest_pending(std::uint64_t camera_ns, std::uint64_t arrival_ns) {
+// raised before the arrival). The exposure on the host clock is estimated through the
+// smallest (arrival - camera time) seen: that is the clock offset plus the fastest transfer,
+// so the estimate falls just after the frame's own trigger (by that fastest transfer) and
+// before the next one, however long this frame waited in queues. The frame answers the
+// latest trigger raised before the estimate.
+std::size_t FrameSampleMapper::answered_trigger(std::uint64_t camera_ns, std::uint64_t arrival_ns) {
   const auto offset = static_cast<std::int64_t>(arrival_ns) - static_cast<std::int64_t>(camera_ns);
   if (!camera_to_host_ns_ || offset < *camera_to_host_ns_) camera_to_host_ns_ = offset;
   const std::int64_t exposed_host_ns = static_cast<std::int64_t>(camera_ns) + *camera_to_host_ns_;
   std::size_t best = 0;
-  for (std::size_t i = 1; i < pending_.size() && pending_[i].host_ns <= arrival_ns; ++i) {
-    const auto distance = [&](std::size_t k) { return std::llabs(static_cast<std::int64_t>(pending_[k].host_ns) - exposed_host_ns); };
-    if (distance(i) < distance(best)) best = i;
-  }
+  for (std::size_t i = 1; i < pending_.size() && static_cast<std::int64_t>(pending_[i].host_ns) <= exposed_host_ns; ++i) best = i;
   return best;
 }
 
@@ -40,7 +41,7 @@ std::optional<std::int64_t> FrameSampleMapper::on_frame(std::uint64_t frame_id, 
     ++untied_;
     return std::nullopt;
   }
-  const std::size_t k = camera_ns == 0 ? 0 : nearest_pending(camera_ns, arrival_ns);
+  const std::size_t k = camera_ns == 0 ? 0 : answered_trigger(camera_ns, arrival_ns);
   const Trigger claimed = pending_[k];
   pending_.erase(pending_.begin(), pending_.begin() + static_cast<std::ptrdiff_t>(k) + 1);
   lost_ += k;

@@ -3,11 +3,13 @@
 // The loop raises the trigger at a known cycle; the frame arrives later, possibly after the
 // next trigger (latency is not bounded by the trigger period), and a camera may merge two
 // close triggers into one frame. So the pairing uses the camera's own timestamp of the
-// exposure: mapped to the host clock through the smallest (arrival - camera time) seen so
-// far, it points at the trigger nearest to it among those raised before the frame arrived;
-// older pending triggers got no frame (lost). Without camera timestamps (0), frames and
-// triggers pair in order, and a gap in the camera's frame ids drops as many triggers.
-// A frame that arrives before any pending trigger was raised is not tied to a sample.
+// exposure, mapped to the host clock through the smallest (arrival - camera time) seen so
+// far: the frame answers the latest trigger raised before that estimate; older pending
+// triggers got no frame (lost). The first frames after start calibrate the mapping: one
+// that waited in a queue longer than a trigger period before any prompt frame was seen
+// can be tied one trigger late. Without camera timestamps (0), frames and triggers pair in
+// order and a gap in the camera's frame ids drops as many triggers. A frame that arrives
+// before any pending trigger was raised is not tied to a sample.
 #include <cstdint>
 #include <deque>
 #include <mutex>
@@ -37,7 +39,7 @@ class FrameSampleMapper {
   std::optional<std::uint64_t> next_frame_id_;
   std::optional<std::int64_t> camera_to_host_ns_;  // min(arrival - camera time) so far
   void drop_skipped_ids(std::uint64_t frame_id);
-  std::size_t nearest_pending(std::uint64_t camera_ns, std::uint64_t arrival_ns);
+  std::size_t answered_trigger(std::uint64_t camera_ns, std::uint64_t arrival_ns);
 };
 
 }  // namespace rig::archive

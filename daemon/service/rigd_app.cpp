@@ -8,6 +8,7 @@
 #include "camera_service.hpp"
 #include "haptic_service.hpp"
 #include "lab_worker.hpp"
+#include "camera/aravis_camera.hpp"
 #include "sim_camera.hpp"
 #include "control_loop.hpp"
 #include "force_model.hpp"
@@ -118,6 +119,9 @@ void RigdApp::start_camera() {
   settings.width = config_.camera.width;
   settings.height = config_.camera.height;
   settings.frame_rate_hz = config_.camera.frame_rate_hz;
+  settings.exposure_us = config_.camera.exposure_us;
+  settings.hardware_trigger = config_.camera.hardware_trigger;
+  settings.packet_size = config_.camera.packet_size;
   std::unique_ptr<drivers::Camera> camera;
   if (config_.camera.kind == "sim") {
     rt::LoopChannels* channels = parts_->channels.get();
@@ -126,6 +130,8 @@ void RigdApp::start_camera() {
       const rt::StatusSnapshot st = channels->status.read();
       return drivers::CameraScene{st.position_mm, surface, st.force_N};
     });
+  } else if (config_.camera.kind == "aravis") {
+    camera = std::make_unique<drivers::AravisCamera>(config_.camera.id, settings);  // throws naming the camera
   } else {
     throw std::runtime_error("camera.kind = \"" + config_.camera.kind + "\" is not available in this build");
   }

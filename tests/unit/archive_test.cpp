@@ -2,6 +2,8 @@
 #include <gtest/gtest.h>
 
 #include "archive.hpp"
+#include "frame_file.hpp"
+#include "frame_sample_mapper.hpp"
 #include "run_csv.hpp"
 #include "test_paths.hpp"
 
@@ -90,6 +92,70 @@ TEST(Archive, AMissingRunIsAnErrorNamingIt) {
   } catch (const ArchiveError& e) {
     EXPECT_NE(std::string(e.what()).find("no run 77"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace rig::archive
+
+namespace rig::archive {
+namespace {
+
+constexpr std::uint64_t kMs = 1'000'000;  // [ns]
+
+TEST(FrameSampleMapper, TiesAFrameToItsOwnTriggerEvenWhenItArrivesAfterTheNextOne) {
+  FrameSampleMapper mapper;
+  mapper.on_trigger(100, 10 * kMs);
+  // Frame 0 exposed at camera time 5 ms (host = camera + 5 ms), arrives promptly at 11 ms.
+  EXPECT_EQ(mapper.on_frame(0, 5 * kMs, 11 * kMs), 100);
+  mapper.on_trigger(110, 20 * kMs);
+  mapper.on_trigger(120, 30 * kMs);
+  // Frame 1 (exposed at host 20 ms) waited in a queue: it arrives after trigger 120.
+  EXPECT_EQ(mapper.on_frame(1, 15 * kMs, 34 * kMs), 110);
+  EXPECT_EQ(mapper.on_frame(2, 25 * kMs, 35 * kMs), 120);
+  EXPECT_EQ(mapper.lost_frames(), 0U);
+}
+
+TEST(FrameSampleMapper, ATriggerTheCameraMergedIsCountedLostAndDoesNotShiftTheRest) {
+  FrameSampleMapper mapper;
+  mapper.on_trigger(100, 10 * kMs);
+  EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 12 * kMs), 100);  // learns the offset: host = camera + 9 ms
+  mapper.on_trigger(110, 20 * kMs);
+  mapper.on_trigger(120, 30 * kMs);                        // no frame for 110
+  mapper.on_trigger(130, 40 * kMs);
+  EXPECT_EQ(mapper.on_frame(1, 21 * kMs, 33 * kMs), 120);
+  EXPECT_EQ(mapper.on_frame(2, 31 * kMs, 43 * kMs), 130);
+  EXPECT_EQ(mapper.lost_frames(), 1U);
+}
+
+TEST(FrameSampleMapper, WithoutCameraTimestampsPairsInOrderAndSkipsTriggersForMissingFrameIds) {
+  FrameSampleMapper mapper;
+  for (int k = 0; k < 4; ++k) mapper.on_trigger(100 + 10 * k, static_cast<std::uint64_t>(10 + 10 * k) * kMs);
+  EXPECT_EQ(mapper.on_frame(7, 0, 15 * kMs), 100);
+  EXPECT_EQ(mapper.on_frame(9, 0, 45 * kMs), 120);  // id 8 never came: trigger 110 is lost
+  EXPECT_EQ(mapper.on_frame(10, 0, 46 * kMs), 130);
+  EXPECT_EQ(mapper.lost_frames(), 1U);
+}
+
+TEST(FrameSampleMapper, AFrameBeforeAnyTriggerIsNotTiedToASample) {
+  FrameSampleMapper mapper;
+  EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 5 * kMs), std::nullopt);
+  mapper.on_trigger(100, 10 * kMs);
+  EXPECT_EQ(mapper.on_frame(1, 2 * kMs, 6 * kMs), std::nullopt);  // arrived before the trigger was raised
+  EXPECT_EQ(mapper.untied_frames(), 2U);
+}
+
+TEST(FrameFile, AppendsFramesAfterItsHeaderAndReopensWithoutOverwriting) {
+  testing::ScratchDir dir("frame-file");
+  const std::vector<std::uint8_t> a(100, 1), b(50, 2);
+  {
+    FrameFile file(dir.file("run.frames"));
+    EXPECT_EQ(file.append(a), 16);
+  }
+  FrameFile again(dir.file("run.frames"));
+  EXPECT_EQ(again.append(b), 116);
+  again.flush();
+  EXPECT_EQ(std::filesystem::file_size(dir.file("run.frames")), 166U);
+  EXPECT_THROW(FrameFile(dir.file("missing-dir/run.frames")), std::runtime_error);
 }
 
 }  // namespace
