@@ -5,7 +5,6 @@
 //   ./rig bench camera [--seconds S] [--rates 25,50,100,200,400]
 #include <arv.h>
 #include <CLI/CLI.hpp>
-#include <time.h>
 
 #include <algorithm>
 #include <chrono>
@@ -14,17 +13,14 @@
 #include <vector>
 
 #include "camera/aravis_camera.hpp"
+#include "clock/monotonic_clock.hpp"
 #include "frame_sample_mapper.hpp"
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
-}
+std::uint64_t now_ns() { return static_cast<std::uint64_t>(rig::drivers::MonotonicClock().now_ns()); }
 
 struct RateResult {
   double rate_hz = 0.0;

@@ -13,6 +13,7 @@
 
 #include "archive.hpp"
 #include "camera/aravis_camera.hpp"
+#include "clock/monotonic_clock.hpp"
 #include "child_process.hpp"
 #include "frame_file.hpp"
 #include "frame_sample_mapper.hpp"
@@ -23,11 +24,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t now_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
-}
+std::uint64_t now_ns() { return static_cast<std::uint64_t>(drivers::MonotonicClock().now_ns()); }
 
 drivers::CameraSettings triggered_settings() {
   drivers::CameraSettings s;

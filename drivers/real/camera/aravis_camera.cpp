@@ -1,9 +1,10 @@
 #include "aravis_camera.hpp"
 
 #include <arv.h>
-#include <time.h>
 
 #include <stdexcept>
+
+#include "clock/monotonic_clock.hpp"
 
 namespace rig::drivers {
 namespace {
@@ -13,12 +14,6 @@ std::string take_error(GError* error, const std::string& what) {
   std::string text = what + ": " + (error != nullptr ? error->message : "unknown error");
   if (error != nullptr) g_error_free(error);
   return text;
-}
-
-std::uint64_t monotonic_ns() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ULL + static_cast<std::uint64_t>(ts.tv_nsec);
 }
 
 ArvPixelFormat arv_format(PixelFormat format) {
@@ -139,7 +134,7 @@ IoStatus AravisCamera::next_frame(FrameView& frame, int timeout_us) noexcept {
     ++timeouts_;
     return IoStatus::kTimeout;
   }
-  const std::uint64_t arrived_ns = monotonic_ns();
+  const auto arrived_ns = static_cast<std::uint64_t>(MonotonicClock().now_ns());
   if (arv_buffer_get_status(buffer) != ARV_BUFFER_STATUS_SUCCESS) {
     ++incomplete_;  // missing packets, aborted, ...: the buffer goes straight back
     arv_stream_push_buffer(stream_.get(), buffer);
