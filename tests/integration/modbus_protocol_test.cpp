@@ -63,14 +63,16 @@ TEST_F(ModbusProtocolTest, DriveCommandsMoveTheSimulatedCarriage) {
   ASSERT_EQ(daq_->read(frame), IoStatus::kOk);
   const double start_V = frame.position_volts;
   for (int i = 0; i < 200; ++i) {  // 0.2 s at +5 V, then stop
+    // One cycle = 1 ms: a read sooner than the DAQ's next conversion is (rightly) kStale.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
     ASSERT_EQ(daq_->read(frame), IoStatus::kOk);
     ASSERT_EQ(daq_->read(inputs), IoStatus::kOk);
     daq_->write(drivers::DigitalOutputs{true, false});
     ASSERT_EQ(daq_->write(drivers::DriveCommand{true, 5.0, 0.0}), IoStatus::kOk);
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   daq_->write(drivers::DigitalOutputs{});
   ASSERT_EQ(daq_->write(drivers::DriveCommand{}), IoStatus::kOk);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
   ASSERT_EQ(daq_->read(frame), IoStatus::kOk);
   EXPECT_GT(frame.position_volts - start_V, 0.05);  // moved more than 0.25 mm into the eye
   EXPECT_FALSE(panel_->motor_powered());

@@ -90,13 +90,14 @@ TEST_F(ModbusRtuTest, TheDaqDriverReadsCalibratedVoltagesAndDrivesTheCarriageOve
   EXPECT_NEAR(frame.position_volts, 0.05 + 0.2 * 12.0, 0.01);  // carriage parked at 12 mm
   const double start_V = frame.position_volts;
   for (int i = 0; i < 100; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // sooner than a conversion is kStale
     ASSERT_EQ(daq.read(frame), IoStatus::kOk);
     daq.write(drivers::DigitalOutputs{true, false});
     ASSERT_EQ(daq.write(drivers::DriveCommand{true, 5.0, 0.0}), IoStatus::kOk);
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
   }
   daq.write(drivers::DigitalOutputs{});
   ASSERT_EQ(daq.write(drivers::DriveCommand{}), IoStatus::kOk);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
   ASSERT_EQ(daq.read(frame), IoStatus::kOk);
   EXPECT_GT(frame.position_volts - start_V, 0.05);
   EXPECT_FALSE(panel_->motor_powered());
@@ -115,7 +116,10 @@ TEST_F(ModbusRtuTest, ASilentLineIsATimeoutThatDoesNotHangAndTheLinkRecovers) {
   EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(200));
   std::this_thread::sleep_for(std::chrono::milliseconds(400));
   IoStatus status = IoStatus::kTimeout;
-  for (int i = 0; i < 5 && status != IoStatus::kOk; ++i) status = daq.read(frame);
+  for (int i = 0; i < 5 && status != IoStatus::kOk; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    status = daq.read(frame);
+  }
   EXPECT_EQ(status, IoStatus::kOk);
   EXPECT_GE(daq.counters().timeouts, 1U);
 }
@@ -126,6 +130,7 @@ TEST_F(ModbusRtuTest, GarbageOverRtuIsRejectedAsBadData) {
   drivers::AnalogFrame frame;
   EXPECT_EQ(daq.read(frame), IoStatus::kBadData);
   panel_->set(proto::daq::sim_panel::kGarbageReplies, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
   EXPECT_EQ(daq.read(frame), IoStatus::kOk);
 }
 
