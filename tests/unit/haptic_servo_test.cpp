@@ -183,11 +183,9 @@ TEST(CheckRenderable, RefusesASourceStifferThanTheDeviceNamingBothStiffnesses) {
     EXPECT_NE(std::string(e.what()).find("2.00 N/mm"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("HD_NOMINAL_MAX_STIFFNESS"), std::string::npos) << e.what();
   }
-  ConstantSource gentle(0.1);
   drivers::HapticLimits stiff_device = kOmni;
   stiff_device.max_stiffness_N_per_mm = 3.0;
   EXPECT_NO_THROW(check_renderable(stiff, stiff_device));
-  (void)gentle;
 }
 
 TEST(MassSpringCornea, HasThePapersVerticesAndSpringsByDefaultAndScalesWithN) {
