@@ -9,6 +9,9 @@
 #include "haptic_service.hpp"
 #include "lab_worker.hpp"
 #include "camera/aravis_camera.hpp"
+#include "camera/v4l2_camera.hpp"
+#include "gpio/gpio_digital_io.hpp"
+#include "usb/usb_daq.hpp"
 #include "sim_camera.hpp"
 #include "control_loop.hpp"
 #include "force_model.hpp"
@@ -25,6 +28,8 @@ std::string software_version() { return RIGD_VERSION; }
 
 struct RigdApp::Parts {
   std::unique_ptr<drivers::ModbusDaq> daq;
+  std::unique_ptr<drivers::UsbDaq> usb_daq;
+  std::unique_ptr<drivers::GpioDigitalIo> gpio;
   drivers::AnalogInput* analog = nullptr;
   drivers::DigitalIo* digital = nullptr;
   drivers::ActuatorDrive* drive = nullptr;
@@ -51,14 +56,44 @@ api::ApiContext& RigdApp::api_context() { return parts_->api_context; }
 int RigdApp::api_port() const { return parts_->api ? parts_->api->port() : 0; }
 
 void RigdApp::start_drivers() {
-  if (config_.daq.kind != "modbus") throw std::runtime_error("daq.kind = \"" + config_.daq.kind + "\" is not available in this build");
-  parts_->daq = std::make_unique<drivers::ModbusDaq>(config_.daq.modbus);
-  parts_->analog = parts_->daq.get();
-  parts_->digital = parts_->daq.get();
-  parts_->drive = parts_->daq.get();
-  spdlog::info("DAQ: Modbus {} {}", config_.daq.modbus.transport,
-               config_.daq.modbus.transport == "tcp" ? config_.daq.modbus.host + ":" + std::to_string(config_.daq.modbus.port)
-                                                     : config_.daq.modbus.serial_device);
+  if (config_.daq.kind == "usb") {
+    drivers::UsbDaqSettings usb;
+    usb.vendor_id = config_.daq.usb_vendor_id;
+    usb.product_id = config_.daq.usb_product_id;
+    usb.watchdog_ms = config_.daq.modbus.watchdog_ms;
+    parts_->usb_daq = std::make_unique<drivers::UsbDaq>(usb);  // throws naming VID:PID
+    parts_->analog = parts_->usb_daq.get();
+    parts_->digital = parts_->usb_daq.get();
+    parts_->drive = parts_->usb_daq.get();
+    spdlog::info("DAQ: USB {:04x}:{:04x}", usb.vendor_id, usb.product_id);
+  } else if (config_.daq.kind == "modbus") {
+    parts_->daq = std::make_unique<drivers::ModbusDaq>(config_.daq.modbus);
+    parts_->analog = parts_->daq.get();
+    parts_->digital = parts_->daq.get();
+    parts_->drive = parts_->daq.get();
+    spdlog::info("DAQ: Modbus {} {}", config_.daq.modbus.transport,
+                 config_.daq.modbus.transport == "tcp" ? config_.daq.modbus.host + ":" + std::to_string(config_.daq.modbus.port)
+                                                       : config_.daq.modbus.serial_device);
+  } else {
+    throw std::runtime_error("daq.kind = \"" + config_.daq.kind + "\" is not available in this build");
+  }
+  if (config_.gpio.enabled) start_gpio();
+}
+
+void RigdApp::start_gpio() {
+  drivers::GpioSettings g;
+  g.chip = config_.gpio.chip;
+  g.home_line = static_cast<unsigned>(config_.gpio.home_line);
+  g.end_line = static_cast<unsigned>(config_.gpio.end_line);
+  g.estop_line = static_cast<unsigned>(config_.gpio.estop_line);
+  g.motor_enable_line = static_cast<unsigned>(config_.gpio.motor_enable_line);
+  g.camera_trigger_line = static_cast<unsigned>(config_.gpio.camera_trigger_line);
+  g.estop_active_low = config_.gpio.estop_active_low;
+  g.debounce_ns = static_cast<std::int64_t>(config_.gpio.debounce_us) * 1000;
+  parts_->gpio = std::make_unique<drivers::GpioDigitalIo>(g, parts_->clock);  // throws naming chip and line
+  parts_->digital = parts_->gpio.get();  // switches, e-stop, enable and trigger on GPIO; analog stays on the DAQ
+  spdlog::info("GPIO: chip {} (home {}, end {}, e-stop {}, enable {}, trigger {})", g.chip, g.home_line, g.end_line,
+               g.estop_line, g.motor_enable_line, g.camera_trigger_line);
 }
 
 void RigdApp::start_loop() {
@@ -92,7 +127,7 @@ void RigdApp::start_services() {
   c.version = software_version();
   if (!config_.api.token_file.empty()) c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
   drivers::ModbusDaq* daq = parts_->daq.get();
-  c.extra_metrics = [daq] {
+  if (daq != nullptr) c.extra_metrics = [daq] {
     const auto n = daq->counters();
     return "# TYPE rigd_modbus_timeouts_total counter\nrigd_modbus_timeouts_total " + std::to_string(n.timeouts) +
            "\n# TYPE rigd_modbus_link_errors_total counter\nrigd_modbus_link_errors_total " + std::to_string(n.link_errors) +
@@ -130,6 +165,8 @@ void RigdApp::start_camera() {
       const rt::StatusSnapshot st = channels->status.read();
       return drivers::CameraScene{st.position_mm, surface, st.force_N};
     });
+  } else if (config_.camera.kind == "v4l2") {
+    camera = std::make_unique<drivers::V4l2Camera>(config_.camera.id.empty() ? "/dev/video0" : config_.camera.id, settings);
   } else if (config_.camera.kind == "aravis") {
     camera = std::make_unique<drivers::AravisCamera>(config_.camera.id, settings);  // throws naming the camera
   } else {

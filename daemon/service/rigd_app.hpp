@@ -26,6 +26,7 @@ class RigdApp {
  private:
   struct Parts;
   void start_drivers();
+  void start_gpio();
   void start_loop();
   void start_services();
   void start_camera();

@@ -19,6 +19,7 @@
 #include "rig/sim/rig_physics.hpp"
 #include "rt_thread.hpp"
 #include "sim_daq.hpp"
+#include "wall_clock_sim_daq.hpp"
 #include "simulated_rig.hpp"
 
 namespace {
@@ -29,29 +30,10 @@ struct Row {
   std::uint64_t overruns = 0, misses = 0;
 };
 
-// The in-process DAQ advances the physics to "now" on every read (real clock).
-class RealTimeSimDaq final : public rig::drivers::AnalogInput, public rig::drivers::DigitalIo, public rig::drivers::ActuatorDrive {
- public:
-  RealTimeSimDaq() : physics_(rig::sim::PhysicsParams{}), daq_(physics_) { start_ = clock_.now_ns(); }
-  rig::drivers::IoStatus read(rig::drivers::AnalogFrame& f) noexcept override {
-    physics_.advance_to(static_cast<double>(clock_.now_ns() - start_) * 1e-9);
-    return daq_.read(f);
-  }
-  rig::drivers::IoStatus read(rig::drivers::DigitalInputs& i) noexcept override { return daq_.read(i); }
-  rig::drivers::IoStatus write(const rig::drivers::DigitalOutputs& o) noexcept override { return daq_.write(o); }
-  rig::drivers::IoStatus write(const rig::drivers::DriveCommand& c) noexcept override { return daq_.write(c); }
-
- private:
-  rig::drivers::MonotonicClock clock_;
-  std::int64_t start_ = 0;
-  rig::sim::RigPhysics physics_;
-  rig::drivers::SimDaq daq_;
-};
-
 Row run_loop(const std::string& mode, double rate_hz, double seconds, int priority, const std::string& sim_path) {
   std::unique_ptr<rig::cli::ChildProcess> sim;
   std::unique_ptr<rig::drivers::ModbusDaq> modbus;
-  std::unique_ptr<RealTimeSimDaq> inprocess;
+  std::unique_ptr<rig::drivers::WallClockSimDaq> inprocess;
   rig::drivers::AnalogInput* analog = nullptr;
   rig::drivers::DigitalIo* digital = nullptr;
   rig::drivers::ActuatorDrive* drive = nullptr;
@@ -66,7 +48,7 @@ Row run_loop(const std::string& mode, double rate_hz, double seconds, int priori
     digital = modbus.get();
     drive = modbus.get();
   } else {
-    inprocess = std::make_unique<RealTimeSimDaq>();
+    inprocess = std::make_unique<rig::drivers::WallClockSimDaq>();
     analog = inprocess.get();
     digital = inprocess.get();
     drive = inprocess.get();

@@ -1,0 +1,29 @@
+#include "input_debouncer.hpp"
+
+namespace rig::drivers {
+
+void InputDebouncer::reset(std::span<const bool> levels, std::int64_t now_ns) noexcept {
+  for (std::size_t i = 0; i < levels.size() && i < kMaxInputs; ++i) lines_[i] = Line{levels[i], now_ns, levels[i], false};
+}
+
+void InputDebouncer::on_edge(std::size_t input, bool active, std::int64_t timestamp_ns) noexcept {
+  if (input >= kMaxInputs) return;
+  Line& line = lines_[input];
+  if (line.raw != active) line.raw_since_ns = timestamp_ns;  // repeated levels extend nothing
+  line.raw = active;
+  if (active) {
+    line.stable = true;
+    line.latched = true;
+  }
+}
+
+bool InputDebouncer::read(std::size_t input, std::int64_t now_ns) noexcept {
+  if (input >= kMaxInputs) return false;
+  Line& line = lines_[input];
+  if (line.raw != line.stable && now_ns - line.raw_since_ns >= debounce_ns_) line.stable = line.raw;
+  const bool level = line.stable || line.latched;
+  line.latched = false;
+  return level;
+}
+
+}  // namespace rig::drivers
