@@ -47,8 +47,9 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   return out;
 }
 
-CameraService::CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz)
-    : camera_(std::move(camera)), channels_(&channels), max_hz_(max_hz) {}
+CameraService::CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz,
+                             std::unique_ptr<FrameRecorder> recorder)
+    : camera_(std::move(camera)), recorder_(std::move(recorder)), channels_(&channels), max_hz_(max_hz) {}
 
 CameraService::~CameraService() { stop(); }
 
@@ -62,6 +63,7 @@ void CameraService::stop() {
   stop_.store(true);
   thread_.join();
   camera_->stop();
+  if (recorder_) recorder_->finish_run();
 }
 
 void CameraService::run() {
@@ -70,22 +72,27 @@ void CameraService::run() {
   while (!stop_.load()) {
     drivers::FrameView frame;
     if (camera_->next_frame(frame, 100'000) != drivers::IoStatus::kOk) continue;
+    const rt::StatusSnapshot st = channels_->status.read();
+    if (recorder_) recorder_->record(frame, st);  // every frame of a run, not just the page's share
     const auto now = std::chrono::steady_clock::now();
     if (now - last_sent < min_interval || frame.format != drivers::PixelFormat::kMono8) continue;
     last_sent = now;
-    const rt::StatusSnapshot st = channels_->status.read();
-    proto::CameraFrame message;
-    message.type = "frame";
-    message.run_id = st.run_id;
-    message.t_s = st.t_s;
-    message.sample_cycle = static_cast<std::int64_t>(st.cycle);
-    message.width = frame.width;
-    message.height = frame.height;
-    message.jpeg_base64 = base64(encode_jpeg_gray(frame.pixels.data(), frame.width, frame.height, 70));
-    auto json = std::make_shared<const std::string>(nlohmann::json(message).dump());
-    for (StreamSink* sink : sinks_) sink->publish(json);
-    sent_.fetch_add(1);
+    stream(frame, st);
   }
+}
+
+void CameraService::stream(const drivers::FrameView& frame, const rt::StatusSnapshot& st) {
+  proto::CameraFrame message;
+  message.type = "frame";
+  message.run_id = st.run_id;
+  message.t_s = st.t_s;
+  message.sample_cycle = static_cast<std::int64_t>(st.cycle);
+  message.width = frame.width;
+  message.height = frame.height;
+  message.jpeg_base64 = base64(encode_jpeg_gray(frame.pixels.data(), frame.width, frame.height, 70));
+  auto json = std::make_shared<const std::string>(nlohmann::json(message).dump());
+  for (StreamSink* sink : sinks_) sink->publish(json);
+  sent_.fetch_add(1);
 }
 
 }  // namespace rig::service

@@ -1,13 +1,14 @@
 #pragma once
 // Pulls frames from the rig's camera on its own thread (never the RT loop), ties each to the
-// loop cycle it was taken at, and streams downscaled JPEGs (at most camera_max_hz) to the
-// page. Per-run frame files and the archive index come with the hardware cameras.
+// loop cycle it was taken at, records every frame of a run (FrameRecorder: per-run frame
+// file + archive index) and streams downscaled JPEGs (at most camera_max_hz) to the page.
 #include <atomic>
 #include <memory>
 #include <thread>
 #include <vector>
 
 #include "loop_channels.hpp"
+#include "frame_recorder.hpp"
 #include "rig/drivers/camera.hpp"
 #include "stream_sink.hpp"
 
@@ -15,7 +16,9 @@ namespace rig::service {
 
 class CameraService {
  public:
-  CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz);
+  // recorder may be null (frames only streamed, not archived).
+  CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz,
+                std::unique_ptr<FrameRecorder> recorder = nullptr);
   ~CameraService();
   void add_sink(StreamSink* sink) { sinks_.push_back(sink); }
   void start();
@@ -24,7 +27,9 @@ class CameraService {
 
  private:
   void run();
+  void stream(const drivers::FrameView& frame, const rt::StatusSnapshot& st);
   std::unique_ptr<drivers::Camera> camera_;
+  std::unique_ptr<FrameRecorder> recorder_;
   rt::LoopChannels* channels_;
   int max_hz_;
   std::vector<StreamSink*> sinks_;

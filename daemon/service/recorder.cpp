@@ -42,6 +42,11 @@ void Recorder::stop() {
   thread_.join();
 }
 
+void Recorder::add_frames(std::vector<archive::FrameRow> rows) {
+  const std::lock_guard lock(frames_mutex_);
+  pending_frames_.insert(pending_frames_.end(), std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end()));
+}
+
 void Recorder::flush() {
   if (!dirty_) return;
   archive_->commit();
@@ -88,6 +93,16 @@ std::size_t Recorder::drain() {
     if (!dirty_) archive_->begin();
     dirty_ = true;
     handle(event);
+  }
+  std::vector<archive::FrameRow> frames;
+  {
+    const std::lock_guard lock(frames_mutex_);
+    frames.swap(pending_frames_);
+  }
+  for (const archive::FrameRow& row : frames) {
+    if (!dirty_) archive_->begin();
+    dirty_ = true;
+    archive_->add_frame(row);
   }
   return count;
 }

@@ -5,6 +5,8 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
+#include <vector>
 #include <string>
 #include <thread>
 
@@ -20,6 +22,9 @@ class Recorder {
   void start();
   void stop();  // drains what is left, commits, joins
 
+  // Camera frame index rows, from the camera thread: written in the recorder's own
+  // transaction, so the archive has a single writer and nobody waits on its lock.
+  void add_frames(std::vector<archive::FrameRow> rows);
   std::uint64_t samples_written() const { return samples_written_.load(); }
   std::uint64_t commits() const { return commits_.load(); }
 
@@ -40,6 +45,8 @@ class Recorder {
   std::int64_t open_run_ = 0;
   bool dirty_ = false;
   std::string last_fault_;
+  std::mutex frames_mutex_;  // never taken by the RT thread
+  std::vector<archive::FrameRow> pending_frames_;
 };
 
 // A fault with its measured value, in words ("force limit exceeded: 2.310 N").

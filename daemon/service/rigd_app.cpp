@@ -172,7 +172,19 @@ void RigdApp::start_camera() {
   } else {
     throw std::runtime_error("camera.kind = \"" + config_.camera.kind + "\" is not available in this build");
   }
-  parts_->camera = std::make_unique<CameraService>(std::move(camera), *parts_->channels, config_.stream.camera_max_hz);
+  std::unique_ptr<FrameRecorder> recorder;
+  if (config_.camera.record_frames) {
+    const std::string dir = config_.camera.frames_dir.empty()
+                                ? (std::filesystem::absolute(config_.archive.path).parent_path() / "frames").string()
+                                : config_.camera.frames_dir;
+    Recorder* archive_writer = parts_->recorder.get();
+    recorder = std::make_unique<FrameRecorder>(
+        [archive_writer](std::vector<archive::FrameRow> rows) { archive_writer->add_frames(std::move(rows)); }, dir,
+        config_.loop.rate_hz);
+    spdlog::info("camera: {}; frames of each run go to {}", camera->describe(), dir);
+  }
+  parts_->camera = std::make_unique<CameraService>(std::move(camera), *parts_->channels, config_.stream.camera_max_hz,
+                                                   std::move(recorder));
   parts_->camera->add_sink(parts_->api.get());
   parts_->camera->start();
 }

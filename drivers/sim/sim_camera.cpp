@@ -56,6 +56,12 @@ IoStatus SimCamera::next_frame(FrameView& frame, int timeout_us) noexcept {
   if (!running_) return IoStatus::kNotReady;
   const auto period = std::chrono::duration<double>(1.0 / std::max(settings_.frame_rate_hz, 0.1));
   next_ += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period);
+  if (const auto late = std::chrono::steady_clock::now() - next_; late > period) {
+    // A real camera does not deliver frames its reader was too slow for: they are lost.
+    const auto missed = static_cast<std::uint64_t>(late / period);
+    counters_.dropped += missed;
+    next_ += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period * static_cast<double>(missed));
+  }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(timeout_us);
   if (next_ > deadline) {
     std::this_thread::sleep_until(deadline);

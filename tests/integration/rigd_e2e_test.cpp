@@ -4,9 +4,11 @@
 #include <signal.h>
 #include <sys/stat.h>
 
+#include <filesystem>
 #include <fstream>
 
 #include "archive.hpp"
+#include "sqlite_handle.hpp"
 #include "rig_processes.hpp"
 #include "sim_panel.hpp"
 
@@ -38,6 +40,42 @@ TEST(RigdEndToEnd, ACutThroughTheApiIsArchivedCompleteWithItsMetadata) {
   const auto csv = rig.api().get("/api/runs/" + std::to_string(run_id) + "/csv");
   EXPECT_NE(csv.body.find("# eye_id: E07"), std::string::npos);
   EXPECT_NE(csv.body.find("t_s,x_mm,force_N,iop_meas_mmHg"), std::string::npos);
+}
+
+TEST(RigdEndToEnd, EveryCameraFrameOfACutGoesToTheRunsFrameFileIndexedByItsSample) {
+  ScratchDir dir("e2e-frames");
+  RigProcesses rig(dir);
+  std::string why;
+  ASSERT_TRUE(rig.prepare(why)) << why;
+  const auto reply = rig.api().post("/api/run", R"({"eye_id":"F1","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":6})");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  const std::int64_t run_id = json::parse(reply.body)["run_id"];
+  ASSERT_TRUE(rig.wait_state("Done", 60)) << rig.status().dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  archive::Archive store(rig.archive_path(), true);
+  const auto frames = store.run_frames(run_id);
+  archive::Database db(rig.archive_path(), true);
+  auto q = db.prepare("SELECT MIN(idx), MAX(idx), MAX(t_s) - MIN(t_s) FROM samples WHERE run_id = ?");
+  q.bind(1, run_id);
+  ASSERT_TRUE(q.step());
+  const std::int64_t first = q.integer(0), last = q.integer(1);
+  const double duration_s = q.real(2);
+  // The simulated camera runs at 30 Hz; the page gets 15 of them, the archive all.
+  EXPECT_GE(static_cast<double>(frames.size()), 20.0 * duration_s) << duration_s << " s run";
+  std::int64_t bytes = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    EXPECT_EQ(frames[i].frame_no, static_cast<std::int64_t>(i));
+    EXPECT_GE(frames[i].sample_index, first - 40) << "frame " << i;  // a frame may precede the first sample by < 1 frame
+    EXPECT_LE(frames[i].sample_index, last) << "frame " << i;
+    if (i > 0) {
+      EXPECT_GT(frames[i].sample_index, frames[i - 1].sample_index);
+    }
+    EXPECT_EQ(frames[i].file_offset, 16 + bytes);
+    bytes += frames[i].bytes;
+  }
+  ASSERT_FALSE(frames.empty());
+  EXPECT_EQ(static_cast<std::int64_t>(std::filesystem::file_size(frames[0].file)), 16 + bytes);
+  EXPECT_EQ(std::filesystem::path(frames[0].file).filename(), "run-" + std::to_string(run_id) + ".frames");
 }
 
 TEST(RigdEndToEnd, ARunIsRefusedWhileNotHomedWithTheReasonInWords) {

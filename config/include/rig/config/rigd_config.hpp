@@ -45,7 +45,8 @@ struct CameraSection {
   double exposure_us = 2000.0;
   bool hardware_trigger = false;
   int packet_size = 1400;
-  std::string frames_dir;         // per-run frame files; empty = next to the archive
+  std::string frames_dir;         // per-run frame files; empty = <archive dir>/frames
+  bool record_frames = true;      // every frame of a run to its frame file + archive index
 };
 
 struct ArchiveSection {
