@@ -11,6 +11,8 @@
 #include "rig/config/config_error.hpp"
 #include "rig/config/rigd_config.hpp"
 #include "rigd_app.hpp"
+#include "systemd_notifier.hpp"
+#include "watchdog_feeder.hpp"
 
 namespace {
 
@@ -59,6 +61,10 @@ int main(int argc, char** argv) {
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A full disk may show up as RLIMIT_FSIZE: a failed write is handled, not a killed daemon.
+  std::signal(SIGXFSZ, SIG_IGN);
+  const rig::service::SystemdNotifier notifier;
+  notifier.status("starting: drivers, RT loop, API");
   rig::service::RigdApp rigd(config);
   try {
     rigd.start();
@@ -67,10 +73,22 @@ int main(int argc, char** argv) {
     std::cerr << "rigd: cannot start: " << e.what() << "\n";
     return 1;
   }
-  std::cout << "rigd: ready, API on http://" << config.api.bind << ":" << rigd.api_port() << std::endl;
+  const std::string where = "http://" + config.api.bind + ":" + std::to_string(rigd.api_port());
+  std::cout << "rigd: ready, API on " << where << std::endl;
+  notifier.ready("RT loop at " + std::to_string(static_cast<int>(config.loop.rate_hz)) + " Hz, API on " + where);
+  rig::service::WatchdogFeeder feeder(
+      rig::service::SystemdNotifier::watchdog_interval(), [&rigd] { return rigd.loop_alive(); },
+      [&notifier] { notifier.watchdog(); },
+      [&notifier](const std::string& text) {
+        notifier.status(text);
+        spdlog::critical("{}", text);
+      });
+  feeder.start();
   int signal = 0;
   sigwait(&signals, &signal);
   spdlog::info("signal {}: shutting down", signal);
+  notifier.stopping();
+  feeder.stop();
   rigd.shutdown();
   return 0;
 }
