@@ -1,0 +1,201 @@
+// The fault-injection matrix (docs/faults.md): rigd against rig-sim over Modbus TCP, one
+// fault per test, injected mid-cut through the simulator's test panel (or by acting on
+// rigd's process). For each: the motor is off (the loop's own sample of the fault cycle
+// already commands 0 V, and the simulated rig reports motor power off), the state is
+// Fault or EStop with the reason in words, the run is archived with its samples up to the
+// fault and its outcome, and nothing moves again before an explicit reset.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <signal.h>
+
+#include <cstdio>
+#include <functional>
+#include <thread>
+
+#include "archive.hpp"
+#include "rig_processes.hpp"
+#include "sim_panel.hpp"
+#include "sqlite_handle.hpp"
+
+namespace rig {
+namespace {
+
+using nlohmann::json;
+using testing::RigProcesses;
+using testing::ScratchDir;
+namespace panel_reg = proto::daq::sim_panel;
+
+const std::string kRun = R"({"eye_id":"FAULT","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14})";
+
+struct Outcome {
+  double motor_off_after_ms = 0;  // sim time from injection to motor power off
+  std::string state, reason;
+};
+
+class FaultMatrix : public ::testing::Test {
+ protected:
+  void SetUp() override { rig_ = std::make_unique<RigProcesses>(dir_); }
+
+  // Starts a cut and waits until the blade is in the tissue.
+  void cut_into_tissue() {
+    std::string why;
+    ASSERT_TRUE(rig_->prepare(why)) << why;
+    ASSERT_EQ(rig_->api().post("/api/run", kRun).status, 200);
+    ASSERT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; }, 30))
+        << rig_->status().dump();
+    testing::SimPanel panel(rig_->sim_port());
+    ASSERT_TRUE(panel.motor_powered());
+  }
+
+  // Injects, waits for the stop and checks what every fault must give.
+  Outcome inject_and_check(const std::function<void(testing::SimPanel&)>& inject, const std::string& state,
+                           const std::string& reason, const std::function<void(testing::SimPanel&)>& clear) {
+    Outcome out;
+    testing::SimPanel panel(rig_->sim_port());
+    const double injected_at = panel.sim_time_s();
+    inject(panel);
+    EXPECT_TRUE(rig_->wait([&](const json& s) { return s["state"] == state; }, 15)) << rig_->status().dump();
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    testing::SimPanel after(rig_->sim_port());  // a dropped link closes the first panel's connection
+    EXPECT_FALSE(after.motor_powered()) << "motor still powered";
+    out.motor_off_after_ms = (after.motor_off_time_s() - injected_at) * 1e3;
+    const json status = rig_->status();
+    out.state = status["state"];
+    out.reason = status["fault"];
+    EXPECT_NE(out.reason.find(reason), std::string::npos) << out.reason;
+    clear(after);
+    expect_run_archived_up_to_the_fault(reason);
+    expect_reset_required(state);
+    std::printf("FAULT-TABLE | %s | %s: %s | motor off %.1f ms after injection (sim time)\n",
+                ::testing::UnitTest::GetInstance()->current_test_info()->name(), out.state.c_str(), out.reason.c_str(),
+                out.motor_off_after_ms);
+    return out;
+  }
+
+  void expect_run_archived_up_to_the_fault(const std::string& reason) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    const json runs = json::parse(rig_->api().get("/api/runs").body);
+    ASSERT_FALSE(runs["runs"].empty());
+    const json& run = runs["runs"][0];
+    EXPECT_EQ(run["outcome"], "fault");
+    EXPECT_NE(run["reason"].get<std::string>().find(reason), std::string::npos) << run.dump();
+    EXPECT_GT(run["samples"].get<int>(), 1000) << "samples up to the fault";
+    // Every sample up to the fault cycle is there: the last one is at most one period (1 ms)
+    // before the fault event; the archive holds the event with the reason.
+    archive::Database db(rig_->archive_path(), true);
+    const std::int64_t id = run["run_id"].get<std::int64_t>();
+    auto fault = db.prepare("SELECT t_s, message FROM events WHERE run_id = ? AND kind = 'fault'");
+    fault.bind(1, id);
+    ASSERT_TRUE(fault.step()) << "no fault event archived";
+    EXPECT_NE(fault.text(1).find(reason), std::string::npos) << fault.text(1);
+    auto last = db.prepare("SELECT MAX(t_s), MAX(idx) - MIN(idx) + 1, COUNT(*) FROM samples WHERE run_id = ?");
+    last.bind(1, id);
+    ASSERT_TRUE(last.step());
+    EXPECT_GE(last.real(0), fault.real(0) - 0.0015) << "samples missing before the fault";
+    EXPECT_LE(last.real(0), fault.real(0)) << "samples recorded after the fault";
+    EXPECT_EQ(last.integer(1), last.integer(2)) << "a gap in the sample indices";
+  }
+
+  void expect_reset_required(const std::string& state) {
+    EXPECT_EQ(rig_->api().post("/api/run", kRun).status, 409) << "a run started without a reset";
+    EXPECT_EQ(rig_->api().post("/api/home").status, 409) << "homing started without a reset";
+    EXPECT_EQ(rig_->status()["state"], state);
+    const auto reset = rig_->api().post("/api/reset");
+    EXPECT_EQ(reset.status, 200) << reset.body;
+    EXPECT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Idle"; }, 10)) << rig_->status().dump();
+  }
+
+  static void set(testing::SimPanel& p, int reg, std::uint16_t v) { p.set(reg, v); }
+
+  ScratchDir dir_{"fault-matrix"};
+  std::unique_ptr<RigProcesses> rig_;
+};
+
+TEST_F(FaultMatrix, ModbusLinkDroppedMidCut) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { set(p, panel_reg::kLinkDrop, 1); }, "Fault", "DAQ link lost",
+                   [](auto& p) { set(p, panel_reg::kLinkDrop, 0); });
+}
+
+TEST_F(FaultMatrix, DaqAnswersTooLate) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { set(p, panel_reg::kLateReplyUs, 3000); }, "Fault", "DAQ link lost",
+                   [](auto& p) { set(p, panel_reg::kLateReplyUs, 0); });
+}
+
+TEST_F(FaultMatrix, DaqAnswersGarbage) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { set(p, panel_reg::kGarbageReplies, 1); }, "Fault", "DAQ link lost",
+                   [](auto& p) { set(p, panel_reg::kGarbageReplies, 0); });
+}
+
+TEST_F(FaultMatrix, ForceSensorStuckWhileTheBladeMoves) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { set(p, panel_reg::kStuckForce, 1); }, "Fault", "force sensor stuck",
+                   [](auto& p) { set(p, panel_reg::kStuckForce, 0); });
+}
+
+TEST_F(FaultMatrix, ForceOverload) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { p.set_float(panel_reg::kExtraForceN, 5.0F); }, "Fault", "force limit exceeded",
+                   [](auto& p) { p.set_float(panel_reg::kExtraForceN, 0.0F); });
+}
+
+TEST_F(FaultMatrix, EstopPressedMidCut) {
+  cut_into_tissue();
+  // The button is released again before the reset: a pressed one refuses reset (own test).
+  inject_and_check([](auto& p) { set(p, panel_reg::kEstopButton, 1); }, "EStop", "e-stop button pressed",
+                   [](auto& p) { set(p, panel_reg::kEstopButton, 0); });
+}
+
+TEST_F(FaultMatrix, EndLimitSwitchHit) {
+  cut_into_tissue();
+  inject_and_check([](auto& p) { set(p, panel_reg::kEndLimitForced, 1); }, "Fault", "end limit switch",
+                   [](auto& p) { set(p, panel_reg::kEndLimitForced, 0); });
+}
+
+TEST_F(FaultMatrix, LoopOverrunStorm) {
+  cut_into_tissue();
+  // rigd's process stopped for 3 ms every 5 ms: each stop makes the loop miss its deadline.
+  const pid_t pid = rig_->rigd().pid();
+  std::atomic<bool> stop_storm{false};
+  inject_and_check(
+      [&](auto&) {
+        std::thread([pid, &stop_storm] {
+          for (int i = 0; i < 400 && !stop_storm.load(); ++i) {
+            ::kill(pid, SIGSTOP);
+            std::this_thread::sleep_for(std::chrono::milliseconds(3));
+            ::kill(pid, SIGCONT);
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+          }
+          ::kill(pid, SIGCONT);
+        }).detach();
+      },
+      "Fault", "", [&](auto&) { stop_storm.store(true); });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+}
+
+TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
+  cut_into_tissue();
+  testing::SimPanel panel(rig_->sim_port());
+  const double killed_at = panel.sim_time_s();
+  ::kill(rig_->rigd().pid(), SIGKILL);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Nobody is left to command the motor: the DAQ's own watchdog (5 ms) cuts it.
+  EXPECT_FALSE(panel.motor_powered());
+  const double off_ms = (panel.motor_off_time_s() - killed_at) * 1e3;
+  EXPECT_LE(off_ms, 5.0 + 1.0) << "DAQ watchdog 5 ms";
+  rig_->start_rigd();  // systemd's Restart=on-failure does this on the rig
+  const json runs = json::parse(rig_->api().get("/api/runs").body);
+  ASSERT_FALSE(runs["runs"].empty());
+  EXPECT_EQ(runs["runs"][0]["outcome"], "interrupted");
+  EXPECT_GT(runs["runs"][0]["samples"].get<int>(), 1000) << "samples up to the kill are kept";
+  // A restarted rigd is not homed: nothing moves before the technician homes it again.
+  EXPECT_EQ(rig_->status()["homed"], false);
+  EXPECT_EQ(rig_->api().post("/api/run", kRun).status, 409);
+  std::printf("FAULT-TABLE | RigdKilledWithSigkillMidRun | restarted Idle, not homed; run interrupted | motor off %.1f ms after the kill (DAQ watchdog)\n",
+              off_ms);
+}
+
+}  // namespace
+}  // namespace rig
