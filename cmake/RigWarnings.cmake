@@ -9,8 +9,18 @@ if(RIG_SANITIZE)
   set(_flags "-fsanitize=${RIG_SANITIZE}" -fno-omit-frame-pointer -fno-sanitize-recover=all)
   # GCC 12 reports false -Wmaybe-uninitialized inside libstdc++ (std::regex, std::function)
   # when sanitizers instrument -O1 code; the release tree keeps that warning as an error.
-  add_compile_options(${_flags} -O1 -Wno-maybe-uninitialized)
+  add_compile_options(${_flags} -O1)
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    add_compile_options(-Wno-maybe-uninitialized)
+  endif()
   add_link_options(${_flags})
+endif()
+
+if(RIG_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "RIG_FUZZ needs clang (libFuzzer): -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link)
 endif()
 
 # rig_target(NAME) applies the project's standard settings.

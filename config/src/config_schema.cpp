@@ -135,6 +135,7 @@ void add_io_fields(std::vector<ConfigField>& f) {
   f.push_back(boolean("camera.hardware_trigger", "expose on the GPIO trigger line", RIG_AT(camera.hardware_trigger)));
   f.push_back(integer("camera.packet_size", 576, 9000, "GigE packet size [B]", RIG_AT(camera.packet_size)));
   f.push_back(path("camera.frames_dir", "where per-run frame files go", RIG_AT(camera.frames_dir)));
+  f.push_back(integer("camera.lost_after_ms", 0, 60000, "no frame this long while recording faults the run, 0 = never [ms]", RIG_AT(camera.lost_after_ms)));
   f.push_back(boolean("camera.record_frames", "record every frame of a run (frame file + archive index)", RIG_AT(camera.record_frames)));
 }
 

@@ -12,6 +12,7 @@
 #include "haptic_control.hpp"
 #include "lab_service.hpp"
 #include "run_csv.hpp"
+#include "sqlite_handle.hpp"
 #include "status_view.hpp"
 
 namespace rig::api {
@@ -102,6 +103,9 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   } catch (const nlohmann::json::exception& e) {
     context_->counters.refused_invalid.fetch_add(1);
     return respond(error_response(request, http::status::bad_request, std::string("request body is not valid JSON: ") + e.what()));
+  } catch (const archive::ArchiveError& e) {  // disk full, I/O error: say so, do not start anything
+    spdlog::error("api: {} {}: archive: {}", std::string(request.method_string()), path, e.what());
+    return respond(error_response(request, http::status::insufficient_storage, std::string("archive cannot be written: ") + e.what()));
   } catch (const std::exception& e) {
     spdlog::error("api: {} {}: {}", std::string(request.method_string()), path, e.what());
     return respond(error_response(request, http::status::internal_server_error, e.what()));

@@ -117,6 +117,15 @@ void Archive::commit() {
   in_transaction_ = false;
 }
 
+void Archive::rollback() noexcept {
+  try {
+    if (in_transaction_) db_.exec("ROLLBACK");
+  } catch (const std::exception&) {
+    // SQLite may have rolled back by itself already (SQLITE_FULL)
+  }
+  in_transaction_ = false;
+}
+
 void Archive::append_sample(const rt::Sample& s) {
   if (!insert_sample_) {
     insert_sample_.emplace(db_.prepare(

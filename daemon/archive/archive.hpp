@@ -76,6 +76,7 @@ class Archive {
 
   void begin();
   void commit();
+  void rollback() noexcept;  // after a failed write: drop the open transaction, if any
   void append_sample(const rt::Sample& sample);
   void add_event(std::int64_t run_id, double t_s, const std::string& kind, const std::string& message);
 

@@ -104,6 +104,7 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns) noexcept {
   last_position_mm_ = in.position_mm;
   in.velocity_mm_s = velocity_mm_s_;
   in.overrun_storm = overrun_storm_;
+  in.service_fault = ch_->service_fault.load(std::memory_order_relaxed);
 }
 
 void ControlLoop::drain_commands(const CycleInput& in) noexcept {

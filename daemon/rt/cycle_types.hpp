@@ -19,6 +19,7 @@ struct CycleInput {
   double velocity_mm_s = 0.0;
   drivers::DigitalInputs inputs{};
   bool overrun_storm = false;
+  FaultCode service_fault = FaultCode::kNone;  // raised by a non-RT service (recorder, camera)
 };
 
 struct MotionRequest {

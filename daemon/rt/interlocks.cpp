@@ -20,6 +20,7 @@ InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMa
                                           double following_error_mm) noexcept {
   const RunState state = machine.state();
   if (in.overrun_storm) return {FaultCode::kOverrunStorm, 0.0};
+  if (in.service_fault != FaultCode::kNone) return {in.service_fault, 0.0};
   if (!in.io_ok) return {};  // values are held from the last good read: judge them next cycle
   if (in.inputs.drive_fault) return {FaultCode::kDriveFault, 1.0};
   if (machine.tared() && std::abs(in.force_N) > s_.safety.force_limit_N) {

@@ -53,6 +53,9 @@ struct LoopChannels {
   LatestValue<StatusSnapshot> status;
   JitterHistogram jitter;
   LoopCounters counters;
+  // Faults found outside the loop (archive writes, camera): services store a FaultCode, the
+  // loop reads it every cycle and faults a moving rig. Lock-free, set and cleared by the service.
+  std::atomic<FaultCode> service_fault{FaultCode::kNone};
 };
 
 }  // namespace rig::rt

@@ -18,7 +18,8 @@ std::string_view to_string(FaultCode fault) noexcept {
       "none", "e-stop button pressed", "e-stop commanded", "DAQ link lost",
       "force limit exceeded", "soft travel limit", "end limit switch", "home limit switch",
       "loop overrun storm", "motor drive fault", "following error", "force sensor stuck",
-      "IOP did not settle", "IOP out of range", "homing failed", "recorder overflow"};
+      "IOP did not settle", "IOP out of range", "homing failed", "recorder overflow",
+      "archive write failed", "camera lost"};
   return kNames[static_cast<int>(fault)];
 }
 

@@ -30,6 +30,8 @@ enum class FaultCode : std::uint8_t {
   kIopOutOfRange,    // IOP left its band during the cut
   kHomingFailed,     // no home switch within the travel
   kRecorderOverflow, // archive could not keep up: stop rather than lose data
+  kArchiveWriteFailed, // the recorder cannot write the archive (disk full, I/O error)
+  kCameraLost,       // no camera frame for camera.lost_after_ms while recording
 };
 
 // Answer of the RT loop to a command (the API waits for it).

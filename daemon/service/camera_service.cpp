@@ -48,8 +48,9 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
 }
 
 CameraService::CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz,
-                             std::unique_ptr<FrameRecorder> recorder)
-    : camera_(std::move(camera)), recorder_(std::move(recorder)), channels_(&channels), max_hz_(max_hz) {}
+                             std::unique_ptr<FrameRecorder> recorder, int lost_after_ms)
+    : camera_(std::move(camera)), recorder_(std::move(recorder)), channels_(&channels), max_hz_(max_hz),
+      lost_after_ms_(lost_after_ms) {}
 
 CameraService::~CameraService() { stop(); }
 
@@ -71,14 +72,34 @@ void CameraService::run() {
   auto last_sent = std::chrono::steady_clock::now() - min_interval;
   while (!stop_.load()) {
     drivers::FrameView frame;
-    if (camera_->next_frame(frame, 100'000) != drivers::IoStatus::kOk) continue;
+    const bool arrived = camera_->next_frame(frame, 100'000) == drivers::IoStatus::kOk;
     const rt::StatusSnapshot st = channels_->status.read();
+    watch_for_loss(arrived, st);
+    if (!arrived) continue;
     if (recorder_) recorder_->record(frame, st);  // every frame of a run, not just the page's share
     const auto now = std::chrono::steady_clock::now();
     if (now - last_sent < min_interval || frame.format != drivers::PixelFormat::kMono8) continue;
     last_sent = now;
     stream(frame, st);
   }
+}
+
+// A run is filmed or it is not a valid run: no frame for lost_after_ms while recording
+// faults it (the loop stops the motor); frames flowing again clear the condition.
+void CameraService::watch_for_loss(bool frame_arrived, const rt::StatusSnapshot& st) {
+  const auto now = std::chrono::steady_clock::now();
+  if (frame_arrived || st.run_id == 0 || lost_after_ms_ <= 0) {
+    last_frame_ = now;  // not recording: a run starting now gets the full grace period
+    if (frame_arrived) {
+      rt::FaultCode lost = rt::FaultCode::kCameraLost;
+      channels_->service_fault.compare_exchange_strong(lost, rt::FaultCode::kNone);
+    }
+    return;
+  }
+  if (now - last_frame_ < std::chrono::milliseconds(lost_after_ms_)) return;
+  rt::FaultCode none = rt::FaultCode::kNone;
+  if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kCameraLost))
+    spdlog::critical("camera: {} sent no frame for {} ms during run {}: faulting the run", camera_->describe(), lost_after_ms_, st.run_id);
 }
 
 void CameraService::stream(const drivers::FrameView& frame, const rt::StatusSnapshot& st) {

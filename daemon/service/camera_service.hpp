@@ -3,6 +3,7 @@
 // loop cycle it was taken at, records every frame of a run (FrameRecorder: per-run frame
 // file + archive index) and streams downscaled JPEGs (at most camera_max_hz) to the page.
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <thread>
 #include <vector>
@@ -18,7 +19,7 @@ class CameraService {
  public:
   // recorder may be null (frames only streamed, not archived).
   CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz,
-                std::unique_ptr<FrameRecorder> recorder = nullptr);
+                std::unique_ptr<FrameRecorder> recorder = nullptr, int lost_after_ms = 1000);
   ~CameraService();
   void add_sink(StreamSink* sink) { sinks_.push_back(sink); }
   void start();
@@ -28,10 +29,13 @@ class CameraService {
  private:
   void run();
   void stream(const drivers::FrameView& frame, const rt::StatusSnapshot& st);
+  void watch_for_loss(bool frame_arrived, const rt::StatusSnapshot& st);
   std::unique_ptr<drivers::Camera> camera_;
   std::unique_ptr<FrameRecorder> recorder_;
   rt::LoopChannels* channels_;
   int max_hz_;
+  int lost_after_ms_;  // no frame for this long while recording = camera lost (0 = never)
+  std::chrono::steady_clock::time_point last_frame_{};
   std::vector<StreamSink*> sinks_;
   std::thread thread_;
   std::atomic<bool> stop_{false};

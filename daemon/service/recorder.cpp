@@ -52,6 +52,8 @@ void Recorder::flush() {
   archive_->commit();
   dirty_ = false;
   commits_.fetch_add(1);
+  rt::FaultCode failing = rt::FaultCode::kArchiveWriteFailed;  // writes work again
+  channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
 }
 
 void Recorder::run() {
@@ -65,7 +67,13 @@ void Recorder::run() {
         last_commit = Clock::now();
       }
     } catch (const std::exception& e) {
-      spdlog::error("recorder: {}", e.what());  // e.g. disk full: the RT loop faults when the ring fills
+      // Disk full or I/O error: the loop faults a moving rig at its next cycle; what was
+      // committed stays, the failed transaction (< one flush interval) is lost.
+      rt::FaultCode none = rt::FaultCode::kNone;
+      if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kArchiveWriteFailed))
+        spdlog::critical("recorder: archive write failed, faulting the run: {}", e.what());
+      archive_->rollback();
+      dirty_ = false;
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));

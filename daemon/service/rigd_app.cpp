@@ -184,7 +184,7 @@ void RigdApp::start_camera() {
     spdlog::info("camera: {}; frames of each run go to {}", camera->describe(), dir);
   }
   parts_->camera = std::make_unique<CameraService>(std::move(camera), *parts_->channels, config_.stream.camera_max_hz,
-                                                   std::move(recorder));
+                                                   std::move(recorder), config_.camera.lost_after_ms);
   parts_->camera->add_sink(parts_->api.get());
   parts_->camera->start();
 }

@@ -34,7 +34,10 @@ struct Outcome {
 
 class FaultMatrix : public ::testing::Test {
  protected:
-  void SetUp() override { rig_ = std::make_unique<RigProcesses>(dir_); }
+  void SetUp() override {
+    if (!custom_rig_) rig_ = std::make_unique<RigProcesses>(dir_);
+  }
+  bool custom_rig_ = false;
 
   // Starts a cut and waits until the blade is in the tissue.
   void cut_into_tissue() {
@@ -96,8 +99,10 @@ class FaultMatrix : public ::testing::Test {
     EXPECT_EQ(last.integer(1), last.integer(2)) << "a gap in the sample indices";
   }
 
-  void expect_reset_required(const std::string& state) {
-    EXPECT_EQ(rig_->api().post("/api/run", kRun).status, 409) << "a run started without a reset";
+  // refused_with: 409 (wrong state); 507 when the archive cannot take a new run either.
+  void expect_reset_required(const std::string& state, int refused_with = 409) {
+    const auto run = rig_->api().post("/api/run", kRun);
+    EXPECT_EQ(run.status, refused_with) << "a run started without a reset: " << run.body;
     EXPECT_EQ(rig_->api().post("/api/home").status, 409) << "homing started without a reset";
     EXPECT_EQ(rig_->status()["state"], state);
     const auto reset = rig_->api().post("/api/reset");
@@ -173,6 +178,45 @@ TEST_F(FaultMatrix, LoopOverrunStorm) {
       },
       "Fault", "", [&](auto&) { stop_storm.store(true); });
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
+}
+
+class FaultMatrixCustomRig : public FaultMatrix {
+ protected:
+  FaultMatrixCustomRig() { custom_rig_ = true; }
+};
+
+TEST_F(FaultMatrixCustomRig, CameraLostMidCut) {
+  // A real GigE Vision camera (Aravis's fake one on loopback), its process killed mid-cut.
+  auto camera = std::make_unique<cli::ChildProcess>(
+      std::vector<std::string>{"/usr/bin/arv-fake-gv-camera-0.8", "-i", "127.0.0.1"}, dir_.file("camera.log"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{},
+                                        std::vector<std::string>{"camera.kind=\"aravis\"", "camera.id=\"127.0.0.1\"",
+                                                                 "camera.width=320", "camera.height=240", "camera.frame_rate_hz=20"});
+  cut_into_tissue();
+  inject_and_check([&](auto&) { camera.reset(); }, "Fault", "camera lost", [](auto&) {});
+}
+
+TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
+  // The archive's files may not grow past 600 kB (RLIMIT_FSIZE): the disk is "full" mid-cut.
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, std::vector<std::string>{"camera.record_frames=false"},
+                                        std::vector<std::string>{"/usr/bin/prlimit", "--fsize=600000", "--"});
+  std::string why;
+  ASSERT_TRUE(rig_->prepare(why)) << why;
+  ASSERT_EQ(rig_->api().post("/api/run", kRun).status, 200);
+  ASSERT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Fault"; }, 60)) << rig_->status().dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  testing::SimPanel panel(rig_->sim_port());
+  EXPECT_FALSE(panel.motor_powered());
+  const std::string reason = rig_->status()["fault"];
+  EXPECT_NE(reason.find("archive write failed"), std::string::npos) << reason;
+  // What was committed before the disk filled is there and readable.
+  archive::Archive store(rig_->archive_path(), true);
+  const auto runs = store.list_runs();
+  ASSERT_FALSE(runs.empty());
+  EXPECT_GT(store.load_run(runs.back().id).size(), 500U) << "samples committed before the disk filled";
+  expect_reset_required("Fault", 507);
+  std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | run kept up to the last commit\n", reason.c_str());
 }
 
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {

@@ -18,7 +18,8 @@ namespace rig::testing {
 class RigProcesses {
  public:
   explicit RigProcesses(const ScratchDir& dir, std::vector<std::string> sim_args = {},
-                        std::vector<std::string> rigd_sets = {}) : dir_(&dir) {
+                        std::vector<std::string> rigd_sets = {}, std::vector<std::string> rigd_launcher = {})
+      : dir_(&dir), rigd_launcher_(std::move(rigd_launcher)) {
     std::vector<std::string> sim = {bin("rig-sim"), "--port", "0"};
     sim.insert(sim.end(), sim_args.begin(), sim_args.end());
     sim_ = std::make_unique<cli::ChildProcess>(sim, dir.file("rig-sim.log"));
@@ -33,6 +34,7 @@ class RigProcesses {
                                      "--set", "daq.port=" + std::to_string(sim_port_), "--set", "api.port=0",
                                      "--set", "archive.path=\"" + archive_path() + "\""};
     for (const auto& s : rigd_sets_) args.insert(args.end(), {"--set", s});
+    args.insert(args.begin(), rigd_launcher_.begin(), rigd_launcher_.end());  // e.g. prlimit --fsize=...
     rigd_ = std::make_unique<cli::ChildProcess>(args, dir_->file("rigd-" + std::to_string(++rigd_starts_) + ".log"));
     const std::string ready = rigd_->wait_for_line("ready, API on", 20000);
     url_ = ready.substr(ready.find("http://"));
@@ -71,6 +73,7 @@ class RigProcesses {
   std::unique_ptr<cli::ChildProcess> sim_;
   std::unique_ptr<cli::ChildProcess> rigd_;
   std::vector<std::string> rigd_sets_;
+  std::vector<std::string> rigd_launcher_;
   int sim_port_ = 0;
   int rigd_starts_ = 0;
   std::string url_;

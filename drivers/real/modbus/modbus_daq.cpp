@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "input_block.hpp"
 #include "rig/proto/daq_register_map.hpp"
 
 namespace rig::drivers {
@@ -78,17 +79,10 @@ IoStatus ModbusDaq::ensure_connected() noexcept {
 }
 
 IoStatus ModbusDaq::validate(const std::uint16_t* block, AnalogFrame& frame) noexcept {
-  if (block[reg::input::kVersion] != reg::kProtocolVersion) return IoStatus::kBadData;
-  const float volts[3] = {reg::decode_f32(block + reg::input::kForceVolts),
-                          reg::decode_f32(block + reg::input::kPositionVolts),
-                          reg::decode_f32(block + reg::input::kIopVolts)};
-  for (const float v : volts) {
-    if (!std::isfinite(v) || std::abs(v) > settings_.max_abs_volts) return IoStatus::kBadData;
-  }
-  frame.force_volts = volts[0];
-  frame.position_volts = volts[1];
-  frame.iop_volts = volts[2];
-  frame.sequence = reg::decode_u32(block + reg::input::kSequence);
+  const auto decoded = decode_input_block(std::span<const std::uint16_t>(block, reg::input::kCount), settings_.max_abs_volts);
+  if (!decoded) return IoStatus::kBadData;
+  frame = decoded->frame;
+  digital_ = decoded->digital;
   const bool fresh = frame.sequence != last_sequence_;
   last_sequence_ = frame.sequence;
   return fresh ? IoStatus::kOk : IoStatus::kStale;
@@ -109,19 +103,12 @@ IoStatus ModbusDaq::read(AnalogFrame& frame) noexcept {
   }
   input_status_ = validate(block, frame);
   if (input_status_ == IoStatus::kBadData) ++counters_.bad_data;
-  if (input_status_ != IoStatus::kBadData) {
-    for (int i = 0; i < reg::input::kCount; ++i) input_block_[i] = block[i];
-  }
   return input_status_;
 }
 
 IoStatus ModbusDaq::read(DigitalInputs& inputs) noexcept {
   if (input_status_ != IoStatus::kOk && input_status_ != IoStatus::kStale) return input_status_;
-  const std::uint16_t bits = input_block_[reg::input::kDigitalInputs];
-  inputs.home_limit = (bits & reg::input_bit::kHomeLimit) != 0;
-  inputs.end_limit = (bits & reg::input_bit::kEndLimit) != 0;
-  inputs.estop = (bits & reg::input_bit::kEstop) != 0;
-  inputs.drive_fault = (bits & reg::input_bit::kDriveFault) != 0;
+  inputs = digital_;
   return IoStatus::kOk;
 }
 

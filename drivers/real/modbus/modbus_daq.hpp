@@ -59,8 +59,8 @@ class ModbusDaq final : public AnalogInput, public ActuatorDrive, public Digital
   bool connected_ = false;
   bool flush_before_next_ = false;
   int cycles_since_attempt_ = 0;
-  std::uint16_t input_block_[16] = {};
   IoStatus input_status_ = IoStatus::kNotReady;
+  DigitalInputs digital_{};  // from this cycle's input block
   DigitalOutputs staged_outputs_{};
   std::uint32_t last_sequence_ = 0;
   ModbusLinkCounters counters_{};

@@ -47,6 +47,7 @@ struct CameraSection {
   int packet_size = 1400;
   std::string frames_dir;         // per-run frame files; empty = <archive dir>/frames
   bool record_frames = true;      // every frame of a run to its frame file + archive index
+  int lost_after_ms = 1000;       // no frame this long while recording faults the run (0 = never)
 };
 
 struct ArchiveSection {
