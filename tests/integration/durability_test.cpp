@@ -29,6 +29,60 @@ struct Kill {
   std::string state;
 };
 
+// One run: home, tare, start, SIGKILL at a random moment; what the loop had done by then.
+Kill run_and_kill(RigProcesses& rig, std::mt19937& rng, int i) {
+  static std::uniform_int_distribution<int> delay_ms(0, 1500);
+  std::string why;
+  // The subject is the archive, not the link: one retry after a reset if this shared VM
+  // starved the DAQ link during homing.
+  if (!rig.prepare(why)) {
+    rig.api().post("/api/reset");
+    if (!rig.prepare(why)) ADD_FAILURE() << "run " << i << ": " << why;
+  }
+  const auto reply = rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
+  EXPECT_EQ(reply.status, 200) << reply.body;
+  Kill k;
+  if (reply.status != 200) return k;
+  k.run_id = json::parse(reply.body)["run_id"];
+  // Every fifth kill lands while arming (IOP settling, approach), the others while cutting.
+  if (i % 5 != 0) {
+    EXPECT_TRUE(rig.wait_state("Cutting", 30)) << rig.status().dump();
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
+  const json before = rig.status();
+  const auto read_at = std::chrono::steady_clock::now();
+  ::kill(rig.rigd().pid(), SIGKILL);
+  const double since_read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at).count();
+  k.cycle_at_kill = before["loop"]["cycles"].get<double>() + since_read_s * 1000.0;
+  k.state = before["state"];
+  return k;
+}
+
+// Checks one run in the archive; returns the samples lost at its end [ms], -1 if it had none.
+double check_run(archive::Database& db, const Kill& k) {
+  auto row = db.prepare("SELECT outcome FROM runs WHERE id = ?");
+  row.bind(1, k.run_id);
+  if (!row.step()) {
+    ADD_FAILURE() << "run " << k.run_id << " missing";
+    return -1.0;
+  }
+  EXPECT_NE(row.text(0), "recording") << "run " << k.run_id << " still open after the restart";
+  auto q = db.prepare("SELECT COUNT(*), MIN(idx), MAX(idx) FROM samples WHERE run_id = ?");
+  q.bind(1, k.run_id);
+  q.step();
+  const std::int64_t count = q.integer(0);
+  if (count == 0) return -1.0;  // killed before cutting started: nothing to lose
+  EXPECT_EQ(q.integer(2) - q.integer(1) + 1, count) << "a gap in run " << k.run_id;
+  const double missing_ms = (k.cycle_at_kill - static_cast<double>(q.integer(2) + 1)) * 1.0;  // 1 ms per cycle
+  EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms << " ms";
+  auto order = db.prepare("SELECT COUNT(*) FROM samples a JOIN samples b ON a.run_id = b.run_id AND b.idx = a.idx + 1 "
+                          "WHERE a.run_id = ? AND b.t_s <= a.t_s");
+  order.bind(1, k.run_id);
+  order.step();
+  EXPECT_EQ(order.integer(0), 0) << "time goes backwards in run " << k.run_id;
+  return missing_ms;
+}
+
 TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost100msPerRun) {
   ScratchDir dir("durability");
   // The eye close to the home switch and homing at 6 mm/s: re-homing after each restart
@@ -36,33 +90,10 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
   RigProcesses rig(dir, {"--surface-mm", "12"},
                    {"motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6", "motion.retract_velocity_mm_s=6"});
   std::mt19937 rng(20261122);
-  std::uniform_int_distribution<int> delay_ms(0, 1500);
   std::vector<Kill> kills;
-  for (int i = 0; i < 50; ++i) {
+  for (int i = 0; i < 50 && !HasFailure(); ++i) {
     if (i > 0) rig.start_rigd();
-    std::string why;
-    // The subject is the archive, not the link: one retry after a reset if this shared VM
-    // starved the DAQ link during homing.
-    if (!rig.prepare(why)) {
-      rig.api().post("/api/reset");
-      ASSERT_TRUE(rig.prepare(why)) << "run " << i << ": " << why;
-    }
-    const auto reply = rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
-    ASSERT_EQ(reply.status, 200) << reply.body;
-    Kill k;
-    k.run_id = json::parse(reply.body)["run_id"];
-    // Every fifth kill lands while arming (IOP settling, approach), the others while cutting.
-    if (i % 5 != 0) {
-      ASSERT_TRUE(rig.wait_state("Cutting", 30)) << rig.status().dump();
-    }
-    std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
-    const json before = rig.status();
-    const auto read_at = std::chrono::steady_clock::now();
-    ::kill(rig.rigd().pid(), SIGKILL);
-    const double since_read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at).count();
-    k.cycle_at_kill = before["loop"]["cycles"].get<double>() + since_read_s * 1000.0;
-    k.state = before["state"];
-    kills.push_back(k);
+    kills.push_back(run_and_kill(rig, rng, i));
   }
   rig.start_rigd();  // marks the last run interrupted
   archive::Database db(rig.archive_path(), true);
@@ -72,25 +103,10 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
   double worst_ms = 0.0;
   int runs_with_samples = 0;
   for (const Kill& k : kills) {
-    auto row = db.prepare("SELECT outcome FROM runs WHERE id = ?");
-    row.bind(1, k.run_id);
-    ASSERT_TRUE(row.step()) << "run " << k.run_id << " missing";
-    EXPECT_NE(row.text(0), "recording") << "run " << k.run_id << " still open after the restart";
-    auto q = db.prepare("SELECT COUNT(*), MIN(idx), MAX(idx) FROM samples WHERE run_id = ?");
-    q.bind(1, k.run_id);
-    ASSERT_TRUE(q.step());
-    const std::int64_t count = q.integer(0);
-    if (count == 0) continue;  // killed before cutting started: nothing to lose
+    const double lost = check_run(db, k);
+    if (lost < 0) continue;
     ++runs_with_samples;
-    EXPECT_EQ(q.integer(2) - q.integer(1) + 1, count) << "a gap in run " << k.run_id;
-    const double missing_ms = (k.cycle_at_kill - static_cast<double>(q.integer(2) + 1)) * 1.0;  // 1 ms per cycle
-    worst_ms = std::max(worst_ms, missing_ms);
-    EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms << " ms";
-    auto order = db.prepare("SELECT COUNT(*) FROM samples a JOIN samples b ON a.run_id = b.run_id AND b.idx = a.idx + 1 "
-                            "WHERE a.run_id = ? AND b.t_s <= a.t_s");
-    order.bind(1, k.run_id);
-    ASSERT_TRUE(order.step());
-    EXPECT_EQ(order.integer(0), 0) << "time goes backwards in run " << k.run_id;
+    worst_ms = std::max(worst_ms, lost);
   }
   EXPECT_GE(runs_with_samples, 35) << "too few kills landed during cutting to mean anything";
   std::printf("DURABILITY | 50 kills, %d runs with samples | worst loss %.1f ms of samples (limit 100 ms)\n",
