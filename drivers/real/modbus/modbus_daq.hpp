@@ -10,6 +10,7 @@
 #include "rig/drivers/actuator_drive.hpp"
 #include "rig/drivers/analog_input.hpp"
 #include "rig/drivers/digital_io.hpp"
+#include "rig/drivers/link_counters.hpp"
 
 namespace rig::drivers {
 
@@ -29,14 +30,6 @@ struct ModbusDaqSettings {
   double max_abs_volts = 12.0;     // readings outside are garbage
 };
 
-struct ModbusLinkCounters {
-  std::uint64_t transactions = 0;
-  std::uint64_t timeouts = 0;
-  std::uint64_t link_errors = 0;
-  std::uint64_t bad_data = 0;
-  std::uint64_t reconnects = 0;
-};
-
 class ModbusDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo {
  public:
   // Connects and checks the protocol version; throws std::runtime_error (setup only).
@@ -46,7 +39,7 @@ class ModbusDaq final : public AnalogInput, public ActuatorDrive, public Digital
   IoStatus read(DigitalInputs& inputs) noexcept override;   // from this cycle's input block
   IoStatus write(const DigitalOutputs& outputs) noexcept override;  // staged for write(Drive)
   IoStatus write(const DriveCommand& command) noexcept override;
-  ModbusLinkCounters counters() const noexcept { return counters_; }
+  LinkCounters counters() const noexcept { return counters_; }
   bool connected() const noexcept { return connected_; }
 
  private:
@@ -63,7 +56,7 @@ class ModbusDaq final : public AnalogInput, public ActuatorDrive, public Digital
   DigitalInputs digital_{};  // from this cycle's input block
   DigitalOutputs staged_outputs_{};
   std::uint32_t last_sequence_ = 0;
-  ModbusLinkCounters counters_{};
+  LinkCounters counters_{};
 };
 
 }  // namespace rig::drivers

@@ -11,6 +11,7 @@
 #include "rig/drivers/actuator_drive.hpp"
 #include "rig/drivers/analog_input.hpp"
 #include "rig/drivers/digital_io.hpp"
+#include "rig/drivers/link_counters.hpp"
 #include "usb_daq_protocol.hpp"
 
 struct libusb_context;
@@ -30,14 +31,6 @@ struct UsbDaqSettings {
   double max_abs_volts = 12.0;        // readings outside are garbage
 };
 
-struct UsbLinkCounters {
-  std::uint64_t transactions = 0;
-  std::uint64_t timeouts = 0;
-  std::uint64_t link_errors = 0;
-  std::uint64_t bad_data = 0;
-  std::uint64_t reconnects = 0;
-};
-
 class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo {
  public:
   // Finds, opens and greets the device; throws naming VID:PID and the reason (setup only).
@@ -52,7 +45,7 @@ class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
   IoStatus write(const DriveCommand& command) noexcept override;
   bool connected() const noexcept { return handle_ != nullptr; }
   bool device_watchdog_tripped() const noexcept { return watchdog_tripped_; }
-  UsbLinkCounters counters() const noexcept { return counters_; }
+  LinkCounters counters() const noexcept { return counters_; }
   usbdaq::HelloReply hello() const noexcept { return hello_; }
 
  private:
@@ -79,7 +72,7 @@ class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
   bool have_sequence_ = false;
   bool watchdog_tripped_ = false;
   DigitalOutputs staged_outputs_{};
-  UsbLinkCounters counters_{};
+  LinkCounters counters_{};
 };
 
 }  // namespace rig::drivers
