@@ -21,7 +21,7 @@ class Reader {
 
   void only(const toml::table& table, const std::string& section, const std::set<std::string>& allowed) const {
     for (auto&& [name, node] : table) {
-      if (allowed.count(std::string(name.str())) == 0U) fail(&node, section + "." + std::string(name.str()), "unknown key");
+      if (allowed.count(std::string(name.str())) == 0U) fail(&node, (section.empty() ? "" : section + ".") + std::string(name.str()), "unknown key");
     }
   }
 
