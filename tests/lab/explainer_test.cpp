@@ -51,9 +51,9 @@ TEST(Explainer, NamesBladeWearAsACovariateTimesDepth) {
   testing::add_blade_wear(runs, 2e-4);
   const Explanation e = explain_timed(runs, "blade_uses x depth");
   ASSERT_TRUE(e.proposed) << e.summary;
-  bool wear = false;
-  for (const ExplainedFeature& f : e.features) wear = wear || f.expression.find("blade_uses") != std::string::npos;
-  EXPECT_TRUE(wear) << e.where;
+  // blade_uses runs 0..8 over the session (mean 4): the wear feature, centred, while inserting.
+  EXPECT_TRUE(selected(e, "(blade_uses-4)*x", "insertion")) << e.where;
+  EXPECT_EQ(e.features.front().expression, "(blade_uses-4)*x") << e.where;
   EXPECT_LT(e.after_cv_rmse_N, e.noise_floor_N + 0.25 * (e.baseline_cv_rmse_N - e.noise_floor_N));
 }
 

@@ -38,7 +38,8 @@ std::string centred(const Covariate& c) {
 }  // namespace
 
 const std::vector<std::string>& FeatureLibrary::gates() {
-  static const std::vector<std::string> kGates = {"all", "insertion", "precut", "cutting", "hold", "retraction"};
+  // Narrow gates first: where two features coincide on the data, the explainer keeps the first.
+  static const std::vector<std::string> kGates = {"precut", "cutting", "hold", "retraction", "insertion", "all"};
   return kGates;
 }
 

@@ -18,6 +18,7 @@ constexpr double kMinGainPct = 5.0;        // as diagnose: below this, structure
 constexpr double kMinRunsImproved = 0.6;   // as diagnose: most held-out runs must be better
 constexpr int kMaxFolds = 5;               // leave-runs-out folds, as the lab's CV
 constexpr std::size_t kChunksOneRun = 50;  // one run: interleaved chunks (~0.3 s) are the CV groups
+constexpr double kSameColumn = 0.9999;     // cosine above which two feature columns are one
 
 std::string number(const char* format, double value) {
   char text[48];
@@ -98,44 +99,59 @@ ResidualExplainer::RunRows ResidualExplainer::sample_run(std::size_t r, const st
 
 ResidualExplainer::Design ResidualExplainer::design(const FeatureLibrary& library, const std::vector<RunRows>& rows) const {
   const auto p = static_cast<Eigen::Index>(library.features().size());
-  std::vector<Eigen::MatrixXd> x(rows.size());
-  Eigen::VectorXd sum_squares = Eigen::VectorXd::Zero(p);
-  double total = 0.0;
-  std::vector<double> line(static_cast<std::size_t>(p));
-  for (std::size_t r = 0; r < rows.size(); ++r) {
-    const std::size_t m = rows[r].rows.size();
-    const std::size_t per_row = m > 0 ? rows[r].covariates.size() / m : 0;
-    x[r].resize(static_cast<Eigen::Index>(m), p);
-    for (std::size_t k = 0; k < m; ++k) {
-      library.row(rows[r].samples[k], rows[r].covariates.data() + k * per_row, line.data());
-      x[r].row(static_cast<Eigen::Index>(k)) = Eigen::Map<const Eigen::RowVectorXd>(line.data(), p);
-    }
-    sum_squares += x[r].colwise().squaredNorm().transpose();
-    total += static_cast<double>(m);
-  }
   Design d;
-  Eigen::VectorXd inverse(p);
-  for (Eigen::Index j = 0; j < p; ++j) {
-    const double rms = std::sqrt(sum_squares(j) / std::max(total, 1.0));
-    d.scale.push_back(rms > 1e-12 ? rms : 1.0);
-    inverse(j) = rms > 1e-12 ? 1.0 / rms : 0.0;  // a column that is zero everywhere stays out
-  }
   const bool one_run = rows.size() == 1;
   d.group_per_run = one_run ? kChunksOneRun : 1;
   const std::size_t folds = one_run ? kMaxFolds : std::min<std::size_t>(kMaxFolds, rows.size());
+  std::vector<double> line(static_cast<std::size_t>(p));
+  GramStats all;
   for (std::size_t r = 0; r < rows.size(); ++r) {
-    const Eigen::MatrixXd xs = x[r] * inverse.asDiagonal();
-    const Eigen::Map<const Eigen::VectorXd> y(rows[r].residual.data(), static_cast<Eigen::Index>(rows[r].residual.size()));
+    const std::size_t m = rows[r].rows.size();
+    const std::size_t per_row = m > 0 ? rows[r].covariates.size() / m : 0;
+    Eigen::MatrixXd x(static_cast<Eigen::Index>(m), p);
+    for (std::size_t k = 0; k < m; ++k) {
+      library.row(rows[r].samples[k], rows[r].covariates.data() + k * per_row, line.data());
+      x.row(static_cast<Eigen::Index>(k)) = Eigen::Map<const Eigen::RowVectorXd>(line.data(), p);
+    }
+    const Eigen::Map<const Eigen::VectorXd> y(rows[r].residual.data(), static_cast<Eigen::Index>(m));
     for (std::size_t c = 0; c < d.group_per_run; ++c) {
-      const auto begin = static_cast<Eigen::Index>(c * rows[r].rows.size() / d.group_per_run);
-      const auto end = static_cast<Eigen::Index>((c + 1) * rows[r].rows.size() / d.group_per_run);
-      const auto block = xs.middleRows(begin, end - begin);
+      const auto begin = static_cast<Eigen::Index>(c * m / d.group_per_run);
+      const auto end = static_cast<Eigen::Index>((c + 1) * m / d.group_per_run);
+      const auto block = x.middleRows(begin, end - begin);
       const auto target = y.segment(begin, end - begin);
       d.groups.push_back({block.transpose() * block, block.transpose() * target, target.squaredNorm(), static_cast<double>(end - begin)});
       d.fold_of.push_back(static_cast<int>((one_run ? c : r) % folds));
+      all.add(d.groups.back());
     }
   }
+  const Eigen::VectorXd inverse = standardise(all, d.scale);
+  for (GramStats& g : d.groups) {
+    g.xtx = inverse.asDiagonal() * g.xtx * inverse.asDiagonal();
+    g.xty = inverse.asDiagonal() * g.xty;
+  }
   return d;
+}
+
+// Column scales (RMS over all rows) into `scale`; the returned factors standardise, and are
+// 0 for a column that is zero everywhere or duplicates an earlier one on these data (L^2
+// while inserting is L^2 after the puncture: L is 0 before it) - the earlier, narrower
+// gate is kept.
+Eigen::VectorXd ResidualExplainer::standardise(const GramStats& all, std::vector<double>& scale) {
+  const Eigen::Index p = all.xtx.cols();
+  Eigen::VectorXd inverse = Eigen::VectorXd::Zero(p);
+  scale.assign(static_cast<std::size_t>(p), 1.0);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const double rms = std::sqrt(all.xtx(j, j) / std::max(all.n, 1.0));
+    if (rms <= 1e-12) continue;
+    bool duplicate = false;
+    for (Eigen::Index i = 0; i < j && !duplicate; ++i) {
+      duplicate = inverse(i) > 0.0 && std::abs(all.xtx(i, j)) > kSameColumn * std::sqrt(all.xtx(i, i) * all.xtx(j, j));
+    }
+    if (duplicate) continue;
+    scale[static_cast<std::size_t>(j)] = rms;
+    inverse(j) = 1.0 / rms;
+  }
+  return inverse;
 }
 
 void ResidualExplainer::describe(const FeatureLibrary& library, const Design& d, const LassoPath& path, int step, Explanation& e) const {
