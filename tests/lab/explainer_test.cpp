@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <random>
 
 #include "injected_effects.hpp"
 #include "lab_scenarios.hpp"
@@ -36,6 +37,28 @@ bool selected(const Explanation& e, const std::string& expression, const std::st
   return false;
 }
 
+TEST(LassoPath, SelectsTheOneColumnThatCarriesTheSignalAmongTenNoiseColumns) {
+  std::mt19937 rng(3);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<GramStats> groups;
+  std::vector<int> fold_of;
+  for (int g = 0; g < 6; ++g) {
+    Eigen::MatrixXd x(400, 11);
+    for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(rng);
+    Eigen::VectorXd y(400);
+    for (Eigen::Index i = 0; i < y.size(); ++i) y(i) = 0.5 * x(i, 7) + 0.2 * normal(rng);
+    groups.push_back({x.transpose() * x, x.transpose() * y, y.squaredNorm(), 400.0});
+    fold_of.push_back(g % 3);
+  }
+  const LassoPath path(groups, fold_of, 4);
+  const int step = path.choose();
+  ASSERT_GE(step, 0);
+  const PathStep& chosen = path.steps()[static_cast<std::size_t>(step)];
+  ASSERT_EQ(chosen.support, std::vector<int>{7});
+  EXPECT_NEAR(chosen.coefficients(0), 0.5, 0.02);
+  EXPECT_NEAR(chosen.cv_sse / path.empty_sse(), 0.04 / 0.29, 0.02);  // noise 0.2^2 of 0.5^2 + 0.2^2
+}
+
 TEST(Explainer, NamesASquareLawThatActsOnlyDuringRetraction) {
   std::vector<RunData> runs = clean_runs();
   testing::add_retraction_square(runs, 2e-4);
@@ -55,6 +78,14 @@ TEST(Explainer, NamesBladeWearAsACovariateTimesDepth) {
   EXPECT_TRUE(selected(e, "(blade_uses-4)*x", "insertion")) << e.where;
   EXPECT_EQ(e.features.front().expression, "(blade_uses-4)*x") << e.where;
   EXPECT_LT(e.after_cv_rmse_N, e.noise_floor_N + 0.25 * (e.baseline_cv_rmse_N - e.noise_floor_N));
+}
+
+TEST(Explainer, WorksOnASingleRunWithChunksOfItAsFolds) {
+  std::vector<RunData> runs = {clean_runs()[4]};
+  testing::add_retraction_square(runs, 2e-4);
+  const Explanation e = explain_timed(runs, "one run, retraction x^2");
+  ASSERT_TRUE(e.proposed) << e.summary;
+  EXPECT_TRUE(selected(e, "x^2", "retraction")) << e.where;
 }
 
 TEST(Explainer, ProposesNothingOnEffectFreeRuns) {
