@@ -173,10 +173,10 @@ int fit(const CliContext& c, const LabOptions& o) {
   return 0;
 }
 
-void print_explanation(const model::explainer::Explanation& e) {
-  std::cout << "baseline (";
-  for (std::size_t k = 0; k < e.base_effects.size(); ++k) std::cout << (k > 0 ? " + " : "") << e.base_effects[k];
-  std::cout << (e.base_effects.empty() ? "model" : "") << "): CV RMSE " << fixed(e.baseline_cv_rmse_N, 4) << " N, noise floor "
+void print_explanation(const std::string& model_name, const model::explainer::Explanation& e) {
+  std::cout << "baseline (" << model_name;
+  for (const auto& effect : e.base_effects) std::cout << " + " << effect;
+  std::cout << "): CV RMSE " << fixed(e.baseline_cv_rmse_N, 4) << " N, noise floor "
             << fixed(e.noise_floor_N, 4) << " N\n" << e.library_size << " candidate features; held-out RMSE along the path:";
   for (const auto& [size, rmse] : e.path) std::cout << "  " << size << ": " << fixed(rmse, 4) << " N";
   std::cout << "\n\n";
@@ -208,7 +208,7 @@ int explain(const CliContext& c, const LabOptions& o) {
   if (c.json()) {
     std::cout << model::explainer::to_json(e).dump(2) << "\n";
   } else {
-    print_explanation(e);
+    print_explanation(m.name, e);
   }
   if (!o.save_term.empty()) {
     if (e.proposed) {

@@ -157,7 +157,8 @@ toml::table parse(const std::string& path) {
   try {
     return toml::parse_file(path);
   } catch (const toml::parse_error& e) {
-    throw ModelFileError(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    const auto line = e.source().begin.line;  // 0: the file itself (missing, unreadable)
+    throw ModelFileError(path + (line > 0 ? ":" + std::to_string(line) : "") + ": " + std::string(e.description()));
   }
 }
 
