@@ -37,7 +37,8 @@ bool selected(const Explanation& e, const std::string& expression, const std::st
   return false;
 }
 
-TEST(LassoPath, SelectsTheOneColumnThatCarriesTheSignalAmongTenNoiseColumns) {
+// Six groups of 400 rows, 11 standard normal columns, y = sum weight_j x_j + 0.2 N(0, 1).
+LassoPath synthetic_path(const std::vector<std::pair<int, double>>& weights) {
   std::mt19937 rng(3);
   std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<GramStats> groups;
@@ -46,11 +47,25 @@ TEST(LassoPath, SelectsTheOneColumnThatCarriesTheSignalAmongTenNoiseColumns) {
     Eigen::MatrixXd x(400, 11);
     for (Eigen::Index i = 0; i < x.size(); ++i) x.data()[i] = normal(rng);
     Eigen::VectorXd y(400);
-    for (Eigen::Index i = 0; i < y.size(); ++i) y(i) = 0.5 * x(i, 7) + 0.2 * normal(rng);
+    for (Eigen::Index i = 0; i < y.size(); ++i) {
+      y(i) = 0.2 * normal(rng);
+      for (const auto& [column, weight] : weights) y(i) += weight * x(i, column);
+    }
     groups.push_back({x.transpose() * x, x.transpose() * y, y.squaredNorm(), 400.0});
     fold_of.push_back(g % 3);
   }
-  const LassoPath path(groups, fold_of, 4);
+  return LassoPath(groups, fold_of, 4);
+}
+
+TEST(LassoPath, PruningDropsAFeatureThatCarriesAlmostNothingAndKeepsOneThatCarriesMuch) {
+  const LassoPath faint = synthetic_path({{7, 0.5}, {3, 0.01}});
+  EXPECT_EQ(faint.prune(faint.with_support({3, 7}), 0.05).support, std::vector<int>{7});
+  const LassoPath strong = synthetic_path({{7, 0.5}, {2, 0.3}});
+  EXPECT_EQ(strong.prune(strong.with_support({2, 7}), 0.05).support, (std::vector<int>{2, 7}));
+}
+
+TEST(LassoPath, SelectsTheOneColumnThatCarriesTheSignalAmongTenNoiseColumns) {
+  const LassoPath path = synthetic_path({{7, 0.5}});
   const int step = path.choose();
   ASSERT_GE(step, 0);
   const PathStep& chosen = path.steps()[static_cast<std::size_t>(step)];

@@ -80,18 +80,19 @@ void GramStats::add(const GramStats& other) {
 }
 
 LassoPath::LassoPath(const std::vector<GramStats>& groups, const std::vector<int>& fold_of, int max_features, int steps)
-    : groups_(groups) {
-  GramStats all;
-  for (const GramStats& g : groups) all.add(g);
+    : groups_(groups), fold_of_(fold_of) {
+  for (const GramStats& g : groups) all_.add(g);
   for (const GramStats& g : groups) empty_sse_ += g.yty;
-  if (groups.empty() || all.xty.size() == 0) return;
+  if (groups.empty() || all_.xty.size() == 0) return;
+  const GramStats& all = all_;
   const int folds = *std::max_element(fold_of.begin(), fold_of.end()) + 1;
-  std::vector<GramStats> train(static_cast<std::size_t>(folds));
+  train_.resize(static_cast<std::size_t>(folds));
   for (int f = 0; f < folds; ++f) {
     for (std::size_t g = 0; g < groups.size(); ++g) {
-      if (fold_of[g] != f) train[static_cast<std::size_t>(f)].add(groups[g]);
+      if (fold_of[g] != f) train_[static_cast<std::size_t>(f)].add(groups[g]);
     }
   }
+  const std::vector<GramStats>& train = train_;
   const double lambda_max = all.xty.cwiseAbs().maxCoeff() / std::max(all.n, 1.0);
   Eigen::VectorXd b_all = Eigen::VectorXd::Zero(all.xty.size());
   std::vector<Eigen::VectorXd> b_fold(static_cast<std::size_t>(folds), b_all);
@@ -141,6 +142,43 @@ int LassoPath::choose(double share) const {
     if (s.support.size() < c.support.size() || (s.support.size() == c.support.size() && s.cv_sse < c.cv_sse)) chosen = static_cast<int>(k);
   }
   return chosen;
+}
+
+PathStep LassoPath::with_support(const std::vector<int>& support) const {
+  PathStep step;
+  step.support = support;
+  step.coefficients = support.empty() ? Eigen::VectorXd() : refit(all_, support);
+  step.group_cv_sse.assign(groups_.size(), 0.0);
+  for (std::size_t f = 0; f < train_.size(); ++f) {
+    if (train_[f].n <= 0.0) continue;
+    const Eigen::VectorXd coefficients = support.empty() ? Eigen::VectorXd() : refit(train_[f], support);
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      if (fold_of_[g] == static_cast<int>(f)) step.group_cv_sse[g] = held_out_sse(groups_[g], support, coefficients);
+    }
+  }
+  for (const double sse : step.group_cv_sse) step.cv_sse += sse;
+  return step;
+}
+
+PathStep LassoPath::prune(const PathStep& step, double min_share) const {
+  PathStep current = with_support(step.support);
+  while (current.support.size() > 1) {
+    const double gain = empty_sse_ - current.cv_sse;
+    std::size_t weakest = 0;
+    double weakest_loss = INFINITY;
+    for (std::size_t k = 0; k < current.support.size(); ++k) {
+      std::vector<int> without = current.support;
+      without.erase(without.begin() + static_cast<std::ptrdiff_t>(k));
+      const double loss = with_support(without).cv_sse - current.cv_sse;  // what feature k is worth
+      if (loss < weakest_loss) weakest_loss = loss, weakest = k;
+    }
+    if (weakest_loss >= min_share * gain) break;
+    std::vector<int> without = current.support;
+    without.erase(without.begin() + static_cast<std::ptrdiff_t>(weakest));
+    current = with_support(without);
+  }
+  current.lambda = step.lambda;
+  return current;
 }
 
 }  // namespace rig::model::explainer

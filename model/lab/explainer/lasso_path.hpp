@@ -39,9 +39,17 @@ class LassoPath {
   // The sparsest step whose CV gain is at least `share` of the best step's; -1 if no step
   // lowers the held-out error.
   int choose(double share = 0.95) const;
+  // A step with fewer features: while some feature carries less than `min_share` of the
+  // step's held-out gain (the CV error rises by less without it), it is dropped.
+  PathStep prune(const PathStep& step, double min_share) const;
+  // The cross-validated least-squares fit of a given support.
+  PathStep with_support(const std::vector<int>& support) const;
 
  private:
   std::vector<GramStats> groups_;
+  std::vector<int> fold_of_;
+  GramStats all_;
+  std::vector<GramStats> train_;  // per fold: every group but the held-out ones
   std::vector<PathStep> steps_;
   double empty_sse_ = 0.0;
 };

@@ -19,6 +19,7 @@ constexpr double kMinRunsImproved = 0.6;   // as diagnose: most held-out runs mu
 constexpr int kMaxFolds = 5;               // leave-runs-out folds, as the lab's CV
 constexpr std::size_t kChunksOneRun = 50;  // one run: interleaved chunks (~0.3 s) are the CV groups
 constexpr double kSameColumn = 0.9999;     // cosine above which two feature columns are one
+constexpr double kMinFeatureShare = 0.05;  // of the held-out gain, that every feature of a term must carry
 
 std::string number(const char* format, double value) {
   char text[48];
@@ -154,8 +155,7 @@ Eigen::VectorXd ResidualExplainer::standardise(const GramStats& all, std::vector
   return inverse;
 }
 
-void ResidualExplainer::describe(const FeatureLibrary& library, const Design& d, const LassoPath& path, int step, Explanation& e) const {
-  const PathStep& s = path.steps()[static_cast<std::size_t>(step)];
+void ResidualExplainer::describe(const FeatureLibrary& library, const Design& d, const LassoPath& path, const PathStep& s, Explanation& e) const {
   std::vector<std::size_t> order(s.support.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -243,7 +243,7 @@ Explanation ResidualExplainer::explain() const {
     e.summary = "no combination of the " + std::to_string(e.library_size) + " candidate features lowers the held-out error: nothing to propose";
     return e;
   }
-  describe(library, d, path, step, e);
+  describe(library, d, path, path.prune(path.steps()[static_cast<std::size_t>(step)], kMinFeatureShare), e);
   const std::string best = "user term " + e.term.expression + " (" + e.term.phase + ")";
   if (e.predicted_gain_pct < kMinGainPct || e.runs_improved < kMinRunsImproved) {
     e.summary = best + " would lower the held-out error by " + number("%.1f", e.predicted_gain_pct) + " % in " +

@@ -40,7 +40,7 @@ class ResidualExplainer {
   RunRows sample_run(std::size_t r, const std::vector<Covariate>& covariates) const;
   Design design(const FeatureLibrary& library, const std::vector<RunRows>& rows) const;
   static Eigen::VectorXd standardise(const GramStats& all, std::vector<double>& scale);
-  void describe(const FeatureLibrary& library, const Design& d, const LassoPath& path, int step, Explanation& e) const;
+  void describe(const FeatureLibrary& library, const Design& d, const LassoPath& path, const PathStep& s, Explanation& e) const;
   void validate(Explanation& e) const;
   std::string free_name() const;
 
