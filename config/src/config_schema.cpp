@@ -111,7 +111,7 @@ void add_daq_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("daq.stop_bits", 1, 2, "Modbus RTU stop bits", RIG_AT(daq.modbus.stop_bits)));
   f.push_back(integer("daq.unit_id", 0, 247, "Modbus unit id", RIG_AT(daq.modbus.unit_id)));
   f.push_back(integer("daq.response_timeout_us", 50, 1000000, "reply time-out; keep below one loop period [us]", RIG_AT(daq.modbus.response_timeout_us)));
-  f.push_back(integer("daq.watchdog_ms", 0, 60000, "DAQ turns its outputs off after this silence [ms]", RIG_AT(daq.modbus.watchdog_ms)));
+  f.push_back(integer("daq.watchdog_ms", 1, 1000, "DAQ turns its outputs off after this silence [ms] (never off: it is the last line of defence when rigd dies)", RIG_AT(daq.modbus.watchdog_ms)));
   f.push_back(integer("daq.usb_vendor_id", 0, 65535, "USB DAQ vendor id", RIG_AT(daq.usb_vendor_id)));
   f.push_back(integer("daq.usb_product_id", 0, 65535, "USB DAQ product id", RIG_AT(daq.usb_product_id)));
 }
@@ -147,6 +147,7 @@ void add_service_fields(std::vector<ConfigField>& f) {
   f.push_back(path("api.token_file", "file holding the API token (mode 0600)", RIG_AT(api.token_file)));
   f.push_back(path("api.web_root", "directory of the overlay page", RIG_AT(api.web_root)));
   f.push_back(integer("api.max_body_bytes", 256, 16777216, "largest request body [B]", RIG_AT(api.max_body_bytes)));
+  f.push_back(text("api.allowed_origins", {}, "comma-separated origins (http[s]://host[:port]) of pages that may command rigd besides its own", RIG_AT(api.allowed_origins)));
   f.push_back(integer("api.max_clients", 1, 1024, "concurrent connections", RIG_AT(api.max_clients)));
   f.push_back(integer("stream.batch_ms", 5, 1000, "live stream batch period [ms]", RIG_AT(stream.batch_ms)));
   f.push_back(boolean("stream.udp_enabled", "PlotJuggler UDP JSON stream", RIG_AT(stream.udp_enabled)));

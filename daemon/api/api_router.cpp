@@ -76,6 +76,13 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   // Stopping is never refused: not for want of a token either.
   const bool safe_command = post && (path == "/api/stop" || path == "/api/estop" || path == "/api/haptic/stop");
   const bool static_file = get && path.rfind("/api/", 0) != 0 && path != "/metrics";
+  if (!safe_command) {
+    if (const auto why = context_->guard.refusal(request, !get && request.method() != http::verb::head)) {
+      context_->counters.refused_cross_site.fetch_add(1);
+      spdlog::warn("api: refused {} {}: {}", std::string(request.method_string()), path, *why);
+      return respond(error_response(request, http::status::forbidden, *why));
+    }
+  }
   if (!static_file && !safe_command && !context_->auth.authorized(request)) {
     context_->counters.refused_unauthorized.fetch_add(1);
     spdlog::warn("api: refused {} {} without a valid token", std::string(request.method_string()), path);
@@ -197,7 +204,12 @@ void ApiRouter::post_run(const Request& request, bool start, Responder respond) 
   command.id = next_command_id_++;
   command.params = {run.iop_mmHg, run.velocity_mm_s, run.depth_mm, row.hold_s, start && run.start.value_or(true), run_id};
   send_command(request, command, std::move(respond), [this, run_id](rt::CommandResult result) {
-    if (result != rt::CommandResult::kAccepted) archive().finish_run(run_id, "cancelled", std::string(rt::to_string(result)));
+    if (result == rt::CommandResult::kAccepted) return;
+    try {  // runs in a timer callback, outside handle()'s try
+      archive().finish_run(run_id, "cancelled", std::string(rt::to_string(result)));
+    } catch (const std::exception& e) {
+      spdlog::error("api: run {} was refused ({}) and its row could not be closed: {}", run_id, rt::to_string(result), e.what());
+    }
   });
 }
 

@@ -21,7 +21,25 @@ ApiServer::~ApiServer() { stop(); }
 
 void ApiServer::start() {
   accept();
-  thread_ = std::thread([this] { io_.run(); });
+  thread_ = std::thread([this] { run_guarded(); });
+}
+
+// A handler that throws must not take rigd (and with it the RT loop's supervisor) down:
+// log it, count it, and keep serving. io_context::run rethrows a handler's exception and
+// can be called again after it.
+void ApiServer::run_guarded() {
+  for (;;) {
+    try {
+      io_.run();
+      return;  // stopped
+    } catch (const std::exception& e) {
+      context_->counters.handler_exceptions.fetch_add(1);
+      spdlog::error("api: a request handler failed: {} (the API keeps serving)", e.what());
+    } catch (...) {
+      context_->counters.handler_exceptions.fetch_add(1);
+      spdlog::error("api: a request handler failed with an unknown exception (the API keeps serving)");
+    }
+  }
 }
 
 void ApiServer::stop() {

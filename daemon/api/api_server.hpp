@@ -36,6 +36,7 @@ class ApiServer final : public service::StreamSink {
 
  private:
   void accept();
+  void run_guarded();
 
   ApiContext* context_;
   boost::asio::io_context io_;

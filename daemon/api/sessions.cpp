@@ -39,6 +39,11 @@ void HttpSession::on_read(beast::error_code ec) {
   Request request = parser_->release();
   const std::string target(request.target());
   if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws") {
+    if (const auto why = server_->context().guard.upgrade_refusal(request)) {
+      server_->context().counters.refused_cross_site.fetch_add(1);
+      spdlog::warn("api: refused a WebSocket upgrade: {}", *why);
+      return send(error_response(request, http::status::forbidden, *why));
+    }
     if (!server_->context().auth.authorized(request)) {
       server_->context().counters.refused_unauthorized.fetch_add(1);
       return send(error_response(request, http::status::unauthorized, "a valid API token is required"));
