@@ -24,6 +24,7 @@ struct ApiCounters {
   std::atomic<std::uint64_t> ws_messages_sent{0};
   std::atomic<std::uint64_t> ws_messages_dropped{0};  // slow clients: oldest batches dropped
   std::atomic<std::int64_t> open_connections{0};
+  std::atomic<std::int64_t> safety_only_connections{0};  // over api.max_clients: stop / e-stop only
 };
 
 class LabService;      // model lab requests (non-RT worker), optional

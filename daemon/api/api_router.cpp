@@ -74,7 +74,7 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   const bool get = request.method() == http::verb::get;
   const bool post = request.method() == http::verb::post;
   // Stopping is never refused: not for want of a token either.
-  const bool safe_command = post && (path == "/api/stop" || path == "/api/estop" || path == "/api/haptic/stop");
+  const bool safe_command = is_safety_request(request);  // request_guard.hpp
   const bool static_file = get && path.rfind("/api/", 0) != 0 && path != "/metrics";
   if (!safe_command) {
     if (const auto why = context_->guard.refusal(request, !get && request.method() != http::verb::head)) {

@@ -23,6 +23,8 @@ class ApiServer final : public service::StreamSink {
   ~ApiServer() override;
   void start();
   void stop();
+  // Connections beyond api.max_clients that are still read, for stop / e-stop only.
+  static constexpr int kSafetyOnlyConnections = 64;
   int port() const { return port_; }
 
   void publish(std::shared_ptr<const std::string> message) override;

@@ -43,6 +43,13 @@ std::string origin_authority(const std::string& origin) {
 
 }  // namespace
 
+bool is_safety_request(const Request& request) {
+  if (request.method() != http::verb::post) return false;
+  const std::string target(request.target());
+  const std::string path = target.substr(0, target.find('?'));
+  return path == "/api/stop" || path == "/api/estop" || path == "/api/haptic/stop";
+}
+
 std::string host_without_port(const std::string& host_header) {
   const std::string host = lower(trimmed(host_header));
   if (!host.empty() && host.front() == '[') {

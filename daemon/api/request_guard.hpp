@@ -40,6 +40,10 @@ class RequestGuard {
   std::vector<std::string> allowed_hosts_;    // lower case, without port
 };
 
+// Requests that make the rig safe (stop, e-stop, haptic stop): never refused, for want of a
+// token, a same-origin page or a free connection slot.
+bool is_safety_request(const Request& request);
+
 // Splits "host:port", "[v6]:port", "host" into the host part (lower case, brackets kept).
 std::string host_without_port(const std::string& host_header);
 
