@@ -89,6 +89,7 @@ void add_iop_and_safety_fields(std::vector<ConfigField>& f) {
   f.push_back(number("iop.min_mmHg", 0, 100, "lowest IOP a run may ask for [mmHg]", RIG_AT(loop.iop.min_mmHg)));
   f.push_back(number("iop.max_mmHg", 0, 100, "highest IOP a run may ask for [mmHg]", RIG_AT(loop.iop.max_mmHg)));
   f.push_back(number("iop.fault_band_mmHg", 0.1, 100, "fault if IOP leaves target +- band during a cut [mmHg]", RIG_AT(loop.iop.fault_band_mmHg)));
+  f.push_back(number("iop.fault_after_ms", 1, 5000, "... for this long [ms] (a pump step is not a leak)", RIG_AT(loop.iop.fault_after_ms)));
   f.push_back(number("safety.force_limit_N", 0.01, 100, "load-cell protection [N]", RIG_AT(loop.safety.force_limit_N)));
   f.push_back(integer("safety.max_consecutive_misses", 1, 100, "failed DAQ reads in a row before link loss", RIG_AT(loop.safety.max_consecutive_misses)));
   f.push_back(integer("safety.overrun_storm_count", 1, 64, "overruns ...", RIG_AT(loop.safety.overrun_storm_count)));
