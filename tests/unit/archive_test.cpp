@@ -112,7 +112,7 @@ TEST(Archive, ARunTheLoopRefusedLeavesNoRowButARecordedRunIsNeverDiscarded) {
   EXPECT_FALSE(a.find_run(refused).has_value());
   EXPECT_TRUE(a.run_meta(refused).empty());
   ASSERT_TRUE(a.find_run(recorded).has_value());
-  EXPECT_EQ(a.run_meta(recorded).size(), 1U);
+  EXPECT_FALSE(a.run_meta(recorded).empty());
 }
 
 TEST(Archive, AMissingRunIsAnErrorNamingIt) {
