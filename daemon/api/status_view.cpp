@@ -74,6 +74,8 @@ std::string prometheus_metrics(ApiContext& c) {
   counter("rigd_stream_messages_sent_total", "WebSocket messages sent", static_cast<double>(c.counters.ws_messages_sent.load()));
   counter("rigd_http_requests_total", "HTTP requests", static_cast<double>(c.counters.http_requests.load()));
   counter("rigd_http_unauthorized_total", "requests refused for a missing or wrong token", static_cast<double>(c.counters.refused_unauthorized.load()));
+  counter("rigd_http_cross_site_refused_total", "requests refused by the Host / Origin / Content-Type guard", static_cast<double>(c.counters.refused_cross_site.load()));
+  counter("rigd_api_handler_exceptions_total", "request handlers that threw past their own error handling", static_cast<double>(c.counters.handler_exceptions.load()));
   gauge("rigd_stream_clients", "connected WebSocket clients", static_cast<double>(c.counters.ws_clients.load()));
   gauge("rigd_force_newtons", "tared force", st.force_N);
   gauge("rigd_position_mm", "carriage position", st.position_mm);

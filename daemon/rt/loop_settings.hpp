@@ -46,7 +46,8 @@ struct IopSettings {
   double settle_timeout_s = 20.0;
   double min_mmHg = 5.0;
   double max_mmHg = 40.0;
-  double fault_band_mmHg = 5.0;        // during a cut
+  double fault_band_mmHg = 5.0;        // during a cut ...
+  double fault_after_ms = 100.0;       // ... for this long [ms] (a pump step is not a leak)
 };
 
 struct SafetySettings {

@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 
 #include "api_server.hpp"
@@ -25,6 +27,15 @@
 namespace rig::service {
 
 std::string software_version() { return RIGD_VERSION; }
+
+namespace {
+// This machine's name: a page reached as http://<hostname>:8080/ is rigd's own.
+std::string machine_host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return {};
+  return name;
+}
+}  // namespace
 
 struct RigdApp::Parts {
   std::unique_ptr<drivers::ModbusDaq> daq;
@@ -125,6 +136,7 @@ void RigdApp::start_services() {
   c.config = &config_;
   c.realtime = parts_->rt_report.realtime;
   c.version = software_version();
+  c.guard = api::RequestGuard(config_.api.allowed_origins, machine_host_name());
   if (!config_.api.token_file.empty()) c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
   drivers::ModbusDaq* daq = parts_->daq.get();
   if (daq != nullptr) c.extra_metrics = [daq] {

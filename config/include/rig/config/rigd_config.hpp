@@ -62,6 +62,7 @@ struct ApiSection {
   std::string web_root = "/usr/share/rigd/web";
   int max_body_bytes = 65536;
   int max_clients = 64;
+  std::string allowed_origins;    // comma-separated page origins besides rigd's own (CSRF guard)
 };
 
 struct StreamSection {
