@@ -1,5 +1,6 @@
 #pragma once
 // `rig model lint`: what is wrong or surprising in a model file, with sizes.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,5 +19,15 @@ struct LintFinding {
 
 std::vector<LintFinding> lint_model(const ForceModel& model);
 std::string to_string(LintFinding::Severity severity);
+
+// Eq. 1 as printed read without the stray `k` (names minus k, values kept in order: h, m
+// and n then all have values), if the printed list has exactly one name too many and `k`
+// among them; the caller compares both readings.
+std::optional<ForceModel> reading_without_k(const ForceModel& printed);
+// The warning every path that evaluates a printed-form file gives (compare, rigd's overlay):
+// it runs as printed, with the defects lint lists.
+std::string printed_form_warning(const ForceModel& model);
+// Why a printed-form file cannot be used for `what` (diagnose, fit, refit).
+std::string printed_form_refusal(const ForceModel& model, const std::string& what);
 
 }  // namespace rig::model

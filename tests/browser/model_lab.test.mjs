@@ -26,11 +26,18 @@ await test("Browser.TogglingTheMissingEffectInTheModelLabMakesTheErrorFall", asy
     const verdict = await page.evaluate(() => window.rig.lab.verdict);
     if (verdict !== "shaft_friction") throw new Error(`diagnosis named ${verdict}`);
     if (!(await page.isChecked(".effect-pick[value=shaft_friction]"))) throw new Error("the verdict was not ticked");
+    // The "where does it fail" plots (web/lab_plots.js, as in the HTML report): the signed
+    // residual by depth for insertion and retraction, one small multiple per run.
+    const diagnosed = await page.evaluate(() => window.rig.lab.plots);
+    if (!diagnosed || diagnosed.action !== "diagnose" || diagnosed.runs !== files.length || diagnosed.retractionBins < 20 ||
+        diagnosed.canvases < files.length + 1) throw new Error(`diagnosis plots: ${JSON.stringify(diagnosed)}`);
     await page.screenshot({path: shot("model-lab-diagnosis.png"), fullPage: true});
     await page.click("#b-fit");
     await until("the refit", () => page.evaluate(() => window.rig.lab.after !== null), 120000);
     const lab = await page.evaluate(() => window.rig.lab);
     if (!(lab.after < 0.5 * lab.before)) throw new Error(`error did not fall: ${lab.before} -> ${lab.after}`);
+    if (!lab.plots || lab.plots.action !== "fit" || !lab.plots.after || lab.plots.runs !== files.length)
+      throw new Error(`fit plots lack the before/after overlay: ${JSON.stringify(lab.plots)}`);
     await page.screenshot({path: shot("model-lab-error-falls.png"), fullPage: true});
     console.log(`  verdict ${verdict}; CV RMSE ${lab.before.toFixed(4)} N -> ${lab.after.toFixed(4)} N`);
   } finally {
