@@ -53,7 +53,7 @@ void lint_negative(const ForceModel& m, double iop, std::vector<LintFinding>& ou
   out.push_back({LintFinding::Severity::kError,
                  fmt("negative force from x = %.2f to %.2f mm", first_x, last_x) +
                      fmt(" (IOP %.0f mmHg), down to %.4f N", iop, worst) + fmt(" at x = %.2f mm: the blade would be pulled into the eye", worst_x),
-                 worst_x, iop, worst});
+                 worst_x, iop, 0.0, worst});
 }
 
 // The reading without the stray k, beside the positional one: what its unloading piece does.

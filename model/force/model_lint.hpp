@@ -15,6 +15,7 @@ struct LintFinding {
   double x_mm = 0.0;           // where (discontinuities)
   double iop_mmHg = 0.0;       // for which IOP
   double size_N = 0.0;         // jump (right - left) at a discontinuity
+  double lowest_N = 0.0;       // the most negative force of a piece that goes below zero
 };
 
 std::vector<LintFinding> lint_model(const ForceModel& model);

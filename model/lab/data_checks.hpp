@@ -5,9 +5,10 @@
 //    the digitizer's steps, not the instrument's. Candidates whose evidence rests on fine
 //    periodic structure (spatial_ripple, mains_interference, stick_slip) are then not
 //    applicable. A run is digitized if its metadata says so (`digitized: yes`), if a time
-//    repeats or goes back, or if fewer than 30 % of its intervals are within 5 % of its
-//    base interval (a DAQ samples at one period, gaps are multiples of it: 1 kHz with two
-//    thirds of the samples dropped still has a third at the base interval).
+//    repeats or goes back, or if its base interval (10th percentile) is not its commonest:
+//    fewer than 20 % of the intervals within 10 % of it, or more at some multiple 2..8 of
+//    it (a DAQ samples at one period; lost samples make gaps of whole periods, rarer the
+//    longer they are, so the period stays the commonest even with 60 % lost at random).
 //  - Base misfit: the paper's model describes ovine cornea under a keratome. On other
 //    tissue or tools (the needle-in-liver data) even the refitted baseline misses most of
 //    the signal, and any "effect" found on top of it is not to be trusted; say so.

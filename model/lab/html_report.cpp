@@ -1,5 +1,6 @@
 #include "html_report.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "lab_json.hpp"

@@ -45,3 +45,31 @@ await test("Browser.TogglingTheMissingEffectInTheModelLabMakesTheErrorFall", asy
     rig.stop();
   }
 });
+
+await test("Browser.TheFitReportDrawsItsPlotsOfflineWithTheBeforeAfterOverlay", async () => {
+  const dir = mkdtempSync(join(tmpdir(), "rig-report-"));
+  const rigCli = join(a.bin, "rig");
+  execFileSync(rigCli, ["sim", "generate", "--out", join(dir, "runs"), "--effect", "shaft_friction", "--iops", "15,18",
+                        "--velocities", "2", "--depth", "11", "--hold", "1"], {stdio: "ignore"});
+  const env = {...process.env};
+  delete env.RIG_WEB_ROOT;  // found from the build tree, as after ./rig setup in a fresh checkout
+  const report = join(dir, "fit.html");
+  execFileSync(rigCli, ["model", "fit", join(dir, "runs"), "--add", "shaft_friction", "--report", report], {stdio: "ignore", env});
+  const {browser, page} = await openPage("file://" + report);
+  try {
+    const drawn = await page.evaluate(() => ({
+      canvases: document.querySelectorAll("#lab-plots canvas").length,
+      runs: document.querySelectorAll("#lab-plots .lab-run").length,
+      holds: document.querySelectorAll("#lab-plots .lab-hold-run").length,
+      legend: [...document.querySelectorAll("#lab-depth .u-legend .u-label")].map(e => e.textContent),
+      title: document.getElementById("title").textContent,
+    }));
+    if (drawn.runs !== 2 || drawn.holds !== 2 || drawn.canvases < 5) throw new Error(`report plots: ${JSON.stringify(drawn)}`);
+    if (drawn.legend.filter(l => l.startsWith("retraction")).length !== 2) throw new Error(`no before/after retraction curves: ${drawn.legend}`);
+    if (!drawn.title.endsWith("fit")) throw new Error(`title ${drawn.title}`);
+    await page.screenshot({path: shot("model-lab-fit-report.png"), fullPage: true});
+    console.log(`  report: ${drawn.canvases} plots, depth legend ${drawn.legend.join(" | ")}`);
+  } finally {
+    await browser.close();
+  }
+});
