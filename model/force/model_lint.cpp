@@ -5,14 +5,12 @@
 #include <cstdio>
 #include <set>
 
+#include "number_text.hpp"
+
 namespace rig::model {
 namespace {
 
-std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof text, format, a, b, c);
-  return text;
-}
+std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) { return number_text(format, a, b, c); }
 
 void lint_printed(const ForceModel& m, std::vector<LintFinding>& out) {
   const PrintedParams& p = m.printed;

@@ -28,9 +28,11 @@ struct SamplingCheck {
 SamplingCheck check_sampling(const RunData& run);
 SamplingCheck check_sampling(const std::vector<const PreparedRun*>& runs);
 // Whether `effect` may be fitted to these runs; if not, `why_not` says why.
-bool sampling_allows(const std::string& effect, const std::vector<const PreparedRun*>& runs, std::string& why_not);
+bool sampling_allows(const std::string& effect, const std::vector<const PreparedRun*>& runs,
+                     std::string& why_not);
 // One warning per digitized data set (empty if none).
-void append_sampling_warnings(const std::vector<const PreparedRun*>& runs, std::vector<std::string>& warnings);
+void append_sampling_warnings(const std::vector<const PreparedRun*>& runs,
+                              std::vector<std::string>& warnings);
 
 // Warnings when the refitted baseline (compare with refit) does not describe the data:
 // R^2 of the insertion below kMinBaselineR2, no puncture found, or puncture depths far from

@@ -17,7 +17,8 @@ void replace(std::string& text, const std::string& marker, const std::string& wi
 
 // Inlined scripts and data must not close their <script> element early.
 std::string script_safe(std::string text) {
-  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3)) text.replace(at, 2, "<\\/");
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+    text.replace(at, 2, "<\\/");
   return text;
 }
 
@@ -43,7 +44,9 @@ nlohmann::json curves(const Comparison& c, const std::vector<RunData>& runs) {
 }
 
 nlohmann::json residual_in_time(const Comparison& c, const std::vector<RunData>& runs) {
-  nlohmann::json out = {{"label", c.runs.front().label}, {"t", nlohmann::json::array()}, {"residual", nlohmann::json::array()},
+  nlohmann::json out = {{"label", c.runs.front().label},
+                        {"t", nlohmann::json::array()},
+                        {"residual", nlohmann::json::array()},
                         {"phases", nlohmann::json::array()}};
   const RunData& run = runs.front();
   const auto& seg = c.runs.front().segmentation;
@@ -55,7 +58,9 @@ nlohmann::json residual_in_time(const Comparison& c, const std::vector<RunData>&
   std::size_t begin = 0;
   for (std::size_t i = 1; i <= run.size(); ++i) {
     if (i == run.size() || seg.phase[i] != seg.phase[begin]) {
-      out["phases"].push_back({{"phase", phase_name(seg.phase[begin])}, {"t0", run.t_s[begin]}, {"t1", run.t_s[i - 1]}});
+      out["phases"].push_back({{"phase", phase_name(seg.phase[begin])},
+                               {"t0", run.t_s[begin]},
+                               {"t1", run.t_s[i - 1]}});
       begin = i;
     }
   }
@@ -64,13 +69,18 @@ nlohmann::json residual_in_time(const Comparison& c, const std::vector<RunData>&
 
 }  // namespace
 
-std::string render_report(const std::vector<RunData>& runs, const ReportContent& content, const ReportAssets& assets) {
-  if (content.before == nullptr || content.before->runs.empty() || runs.size() != content.before->runs.size()) {
+std::string render_report(const std::vector<RunData>& runs, const ReportContent& content,
+                          const ReportAssets& assets) {
+  if (content.before == nullptr || content.before->runs.empty() ||
+      runs.size() != content.before->runs.size()) {
     throw std::invalid_argument("report: no runs");
   }
   const Comparison& c = *content.before;
-  nlohmann::json data = {{"kind", content.kind}, {"comparison", to_json(c)}, {"curves", curves(c, runs)},
-                         {"residual", residual_in_time(c, runs)}, {"series", report_series(runs, c, content.after)},
+  nlohmann::json data = {{"kind", content.kind},
+                         {"comparison", to_json(c)},
+                         {"curves", curves(c, runs)},
+                         {"residual", residual_in_time(c, runs)},
+                         {"series", report_series(runs, c, content.after)},
                          {"lab", content.lab}};
   if (content.after != nullptr) data["after"] = to_json(*content.after);
   // Spectra in full for the plots (the comparison's JSON keeps only the peaks).

@@ -22,6 +22,7 @@ struct ReportContent {
 };
 
 const char* report_template();
-std::string render_report(const std::vector<RunData>& runs, const ReportContent& content, const ReportAssets& assets);
+std::string render_report(const std::vector<RunData>& runs, const ReportContent& content,
+                          const ReportAssets& assets);
 
 }  // namespace rig::model

@@ -7,8 +7,8 @@
 
 namespace rig::model::test_runs {
 
-inline RunData simulated_cut(double hold_s = 0.0, double depth_mm = 12.0, double iop_mmHg = 15.0, std::uint64_t seed = 1,
-                             const std::vector<std::string>& hidden = {}) {
+inline RunData simulated_cut(double hold_s = 0.0, double depth_mm = 12.0, double iop_mmHg = 15.0,
+                             std::uint64_t seed = 1, const std::vector<std::string>& hidden = {}) {
   sim::GeneratorOptions g;
   for (const auto& text : hidden) {
     std::string error;

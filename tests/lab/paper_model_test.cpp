@@ -18,10 +18,15 @@
 namespace rig::model {
 namespace {
 
-ForceModel printed() { return ForceModel::load(testing::source("model/params/paper-printed.toml")); }
-ForceModel printed_without_k() { return ForceModel::load(testing::source("model/params/paper-printed-without-k.toml")); }
+ForceModel printed() {
+  return ForceModel::load(testing::source("model/params/paper-printed.toml"));
+}
+ForceModel printed_without_k() {
+  return ForceModel::load(testing::source("model/params/paper-printed-without-k.toml"));
+}
 
-const LintFinding* finding(const std::vector<LintFinding>& findings, const std::string& text, double iop = -1.0) {
+const LintFinding* finding(const std::vector<LintFinding>& findings, const std::string& text,
+                           double iop = -1.0) {
   for (const auto& f : findings) {
     if (f.what.find(text) != std::string::npos && (iop < 0.0 || f.iop_mmHg == iop)) return &f;
   }
@@ -75,15 +80,20 @@ TEST(PrintedForm, CompareRunsItAsPrintedAndSaysSo) {
   for (const ForceModel& m : {printed(), printed_without_k()}) {
     const Comparison c = compare(m, {run});
     bool warned = false;
-    for (const auto& w : c.warnings) warned = warned || w.find("evaluated as printed") != std::string::npos;
+    for (const auto& w : c.warnings)
+      warned = warned || w.find("evaluated as printed") != std::string::npos;
     EXPECT_TRUE(warned) << m.name;
     for (std::size_t i = 0; i < run.size(); i += 97) {
-      if (c.runs[0].segmentation.phase[i] == Phase::kApproach || i > c.runs[0].segmentation.insertion_end) continue;
-      EXPECT_NEAR(c.runs[0].prediction[i], m.baseline(run.x_mm[i], run.x_mm[i], 15.0), 1e-9) << m.name << " at x = " << run.x_mm[i];
+      if (c.runs[0].segmentation.phase[i] == Phase::kApproach ||
+          i > c.runs[0].segmentation.insertion_end)
+        continue;
+      EXPECT_NEAR(c.runs[0].prediction[i], m.baseline(run.x_mm[i], run.x_mm[i], 15.0), 1e-9)
+          << m.name << " at x = " << run.x_mm[i];
     }
   }
   // At 8 mm the two readings differ by m + n P - 0.02 = 0.939 N: which file ran shows.
-  EXPECT_NEAR(printed_without_k().baseline(8.0, 15.0) - printed().baseline(8.0, 15.0), 0.659 + 0.3 - 0.02, 1e-9);
+  EXPECT_NEAR(printed_without_k().baseline(8.0, 15.0) - printed().baseline(8.0, 15.0),
+              0.659 + 0.3 - 0.02, 1e-9);
 }
 
 TEST(PrintedForm, IsRefusedWhereTheLabWouldFitItsParameters) {
@@ -101,15 +111,20 @@ TEST(PrintedForm, IsRefusedWhereTheLabWouldFitItsParameters) {
 
 TEST(PrintedForm, TheCliRefusesDiagnoseAndFitNamingTheFile) {
   testing::ScratchDir dir("printed-cli");
-  ASSERT_EQ(testing::run_command(testing::bin("rig") + " sim generate --out " + dir.file("runs") + " --iops 15 --velocities 2 --depth 11").exit_code, 0);
+  ASSERT_EQ(testing::run_command(testing::bin("rig") + " sim generate --out " + dir.file("runs") +
+                                 " --iops 15 --velocities 2 --depth 11")
+                .exit_code,
+            0);
   const std::string file = testing::source("model/params/paper-printed.toml");
   for (const std::string command : {"diagnose", "fit"}) {
-    const auto r = testing::run_command(testing::bin("rig") + " model " + command + " " + dir.file("runs") + " --model " + file);
+    const auto r = testing::run_command(testing::bin("rig") + " model " + command + " " +
+                                        dir.file("runs") + " --model " + file);
     EXPECT_NE(r.exit_code, 0) << command;
     EXPECT_NE(r.output.find("paper-printed.toml"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("eq1-printed"), std::string::npos) << r.output;
   }
-  const auto compared = testing::run_command(testing::bin("rig") + " model compare " + dir.file("runs") + " --model " + file);
+  const auto compared = testing::run_command(testing::bin("rig") + " model compare " +
+                                             dir.file("runs") + " --model " + file);
   EXPECT_EQ(compared.exit_code, 0);
   EXPECT_NE(compared.output.find("evaluated as printed"), std::string::npos) << compared.output;
 }
@@ -118,14 +133,23 @@ TEST(PrintedForm, TheCliRefusesDiagnoseAndFitNamingTheFile) {
 TEST(OffsetG0, TheDocsCompareLikeWithLike) {
   const ForceModel as_printed = printed(), ours = ForceModel::paper_interpreted();
   const double x_pi = 3.55, iop = 15.0;
-  EXPECT_NEAR(as_printed.baseline(x_pi - 1e-9, iop), 0.330, 0.0005) << "pre-cut peak with c as printed";
-  EXPECT_NEAR(as_printed.baseline(x_pi + 1e-9, iop), 0.298, 0.0005) << "printed cutting piece at x_pi";
-  EXPECT_NEAR(as_printed.baseline(0.75 + 1e-9, iop) - as_printed.baseline(0.75 - 1e-9, iop), 0.107, 0.0005) << "step at 0.75 mm";
-  EXPECT_NEAR(ours.baseline(x_pi - 1e-9, iop), 0.223, 0.0005) << "pre-cut peak with c's sign corrected";
-  EXPECT_NEAR(cutting_plateau(ours.params, x_pi + ours.params.w_drop, iop) - ours.params.g0, 0.298, 0.002) << "the same printed piece";
-  EXPECT_NEAR(ours.baseline(x_pi + ours.params.w_drop + 1e-6, iop), 0.183, 0.0005) << "our plateau after the drop";
+  EXPECT_NEAR(as_printed.baseline(x_pi - 1e-9, iop), 0.330, 0.0005)
+      << "pre-cut peak with c as printed";
+  EXPECT_NEAR(as_printed.baseline(x_pi + 1e-9, iop), 0.298, 0.0005)
+      << "printed cutting piece at x_pi";
+  EXPECT_NEAR(as_printed.baseline(0.75 + 1e-9, iop) - as_printed.baseline(0.75 - 1e-9, iop), 0.107,
+              0.0005)
+      << "step at 0.75 mm";
+  EXPECT_NEAR(ours.baseline(x_pi - 1e-9, iop), 0.223, 0.0005)
+      << "pre-cut peak with c's sign corrected";
+  EXPECT_NEAR(cutting_plateau(ours.params, x_pi + ours.params.w_drop, iop) - ours.params.g0, 0.298,
+              0.002)
+      << "the same printed piece";
+  EXPECT_NEAR(ours.baseline(x_pi + ours.params.w_drop + 1e-6, iop), 0.183, 0.0005)
+      << "our plateau after the drop";
   // The shift that would keep the printed drop: the sign correction's -0.107 N; ours is -0.114 N.
-  const double correction = (ours.baseline(x_pi - 1e-9, iop) - as_printed.baseline(x_pi - 1e-9, iop));
+  const double correction =
+      (ours.baseline(x_pi - 1e-9, iop) - as_printed.baseline(x_pi - 1e-9, iop));
   EXPECT_NEAR(correction, -0.107, 0.0005);
   EXPECT_NEAR(ours.params.g0 - correction, -0.007, 0.0005);
 }

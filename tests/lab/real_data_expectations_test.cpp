@@ -19,7 +19,10 @@
 namespace rig::model {
 namespace {
 
-RunData needle() { return read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv")); }
+RunData needle() {
+  return read_run_csv(
+      testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+}
 
 const CandidateResult* candidate(const Diagnosis& d, const std::string& name) {
   for (const auto& c : d.candidates) {
@@ -35,16 +38,21 @@ TEST(NeedleDataBiomechanics, RelaxationInTheHoldIsMeasuredNotLeftAtItsStart) {
   const CandidateResult* relax = candidate(d, "stress_relaxation");
   ASSERT_NE(relax, nullptr);
   ASSERT_TRUE(relax->applicable) << relax->not_applicable;
-  std::printf("needle: stress_relaxation gain %.1f %%: %s\n", relax->gain_pct, relax->evidence.c_str());
-  EXPECT_GT(relax->gain_pct, 5.0) << "the hold decays visibly (the digitized curve loses ~30 % in 5 s)";
+  std::printf("needle: stress_relaxation gain %.1f %%: %s\n", relax->gain_pct,
+              relax->evidence.c_str());
+  EXPECT_GT(relax->gain_pct, 5.0)
+      << "the hold decays visibly (the digitized curve loses ~30 % in 5 s)";
   EXPECT_EQ(relax->evidence.find("by 0 %"), std::string::npos) << relax->evidence;
-  EXPECT_EQ(relax->evidence.find("1.00 s"), std::string::npos) << "the time constant left its start: " << relax->evidence;
+  EXPECT_EQ(relax->evidence.find("1.00 s"), std::string::npos)
+      << "the time constant left its start: " << relax->evidence;
 }
 
 TEST(NeedleDataBiomechanics, TheVerdictIsTissueMechanicsOrUnexplainedNeverAnInstrument) {
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle()});
   std::printf("needle: verdict %s\n", d.verdict.c_str());
-  for (const char* instrument : {"spatial_ripple", "mains_interference", "stick_slip", "sensor_drift"}) EXPECT_NE(d.verdict, instrument);
+  for (const char* instrument :
+       {"spatial_ripple", "mains_interference", "stick_slip", "sensor_drift"})
+    EXPECT_NE(d.verdict, instrument);
   EXPECT_NE(d.verdict, "none") << "the residual is far above the floor on liver";
 }
 
@@ -56,13 +64,16 @@ TEST(NeedleDataBiomechanics, RetractionPullsBelowInsertionInTheSignedResidual) {
   int n = 0;
   for (std::size_t b = 0; b < depth["x_mm"].size(); ++b) {
     const double x = depth["x_mm"][b].get<double>();
-    if (x < 10.0 || x > 28.0 || depth["insertion_N"][b].is_null() || depth["retraction_N"][b].is_null()) continue;
+    if (x < 10.0 || x > 28.0 || depth["insertion_N"][b].is_null() ||
+        depth["retraction_N"][b].is_null())
+      continue;
     inserting += depth["insertion_N"][b].get<double>();
     retracting += depth["retraction_N"][b].get<double>();
     ++n;
   }
   ASSERT_GT(n, 10);
-  std::printf("needle: mean signed residual 10-28 mm: inserting %+.4f N, retracting %+.4f N\n", inserting / n, retracting / n);
+  std::printf("needle: mean signed residual 10-28 mm: inserting %+.4f N, retracting %+.4f N\n",
+              inserting / n, retracting / n);
   EXPECT_LT(retracting / n, inserting / n) << "shaft friction pulls on the way out";
 }
 

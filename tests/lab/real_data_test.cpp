@@ -17,10 +17,14 @@
 namespace rig::model {
 namespace {
 
-RunData needle() { return read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv")); }
+RunData needle() {
+  return read_run_csv(
+      testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+}
 
 bool any_contains(const std::vector<std::string>& texts, const std::string& part) {
-  return std::any_of(texts.begin(), texts.end(), [&](const std::string& t) { return t.find(part) != std::string::npos; });
+  return std::any_of(texts.begin(), texts.end(),
+                     [&](const std::string& t) { return t.find(part) != std::string::npos; });
 }
 
 TEST(NeedleData, ImportsAndSegmentsIntoInsertionHoldAndRetraction) {
@@ -32,7 +36,8 @@ TEST(NeedleData, ImportsAndSegmentsIntoInsertionHoldAndRetraction) {
   ASSERT_GT(s.hold_end, s.hold_begin) << "the liver data holds at depth";
   EXPECT_GT(run.t_s[s.hold_end - 1] - run.t_s[s.hold_begin], 5.0);
   EXPECT_EQ(s.phase.back(), Phase::kRetraction);
-  for (std::size_t i = s.hold_begin; i < s.hold_end; ++i) ASSERT_NEAR(run.x_mm[i], s.max_depth_mm, 0.25) << "held at depth";
+  for (std::size_t i = s.hold_begin; i < s.hold_end; ++i)
+    ASSERT_NEAR(run.x_mm[i], s.max_depth_mm, 0.25) << "held at depth";
 }
 
 TEST(NeedleData, IsRecognisedAsDigitizedSoTheInstrumentCandidatesAreNotApplicable) {
@@ -44,7 +49,8 @@ TEST(NeedleData, IsRecognisedAsDigitizedSoTheInstrumentCandidatesAreNotApplicabl
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {run}, only);
   ASSERT_EQ(d.candidates.size(), 3U);
   for (const CandidateResult& c : d.candidates) {
-    EXPECT_FALSE(c.applicable) << c.effect;  // mains also by its own rule (sampled far below 150 Hz)
+    EXPECT_FALSE(c.applicable)
+        << c.effect;  // mains also by its own rule (sampled far below 150 Hz)
     EXPECT_FALSE(c.not_applicable.empty()) << c.effect;
   }
   const PreparedRun prepared = prepare_run(run);
@@ -54,9 +60,12 @@ TEST(NeedleData, IsRecognisedAsDigitizedSoTheInstrumentCandidatesAreNotApplicabl
     EXPECT_NE(why.find("digitized"), std::string::npos) << effect << ": " << why;
   }
   std::string why;
-  EXPECT_TRUE(sampling_allows("stress_relaxation", {&prepared}, why)) << "tissue effects stay candidates";
+  EXPECT_TRUE(sampling_allows("stress_relaxation", {&prepared}, why))
+      << "tissue effects stay candidates";
   EXPECT_TRUE(sampling_allows("shaft_friction", {&prepared}, why));
-  EXPECT_TRUE(d.verdict != "spatial_ripple" && d.verdict != "mains_interference" && d.verdict != "stick_slip") << d.verdict;
+  EXPECT_TRUE(d.verdict != "spatial_ripple" && d.verdict != "mains_interference" &&
+              d.verdict != "stick_slip")
+      << d.verdict;
   EXPECT_TRUE(any_contains(d.warnings, "digitized")) << "the user is told why";
 }
 
@@ -65,9 +74,11 @@ TEST(NeedleData, WarnsThatTheCorneaModelDoesNotDescribeLiver) {
   const RunData run = needle();
   const Comparison refitted = compare(model, {run}, true);
   const auto warnings = base_misfit_warnings(model, refitted);
-  std::printf("needle: refitted Eq. 1 R^2 %.3f, RMSE %.4f N\n", refitted.overall.r2, refitted.overall.rmse_N);
+  std::printf("needle: refitted Eq. 1 R^2 %.3f, RMSE %.4f N\n", refitted.overall.r2,
+              refitted.overall.rmse_N);
   EXPECT_LT(refitted.overall.r2, kMinBaselineR2);
-  EXPECT_TRUE(any_contains(warnings, "does not describe these data")) << "R^2 " << refitted.overall.r2;
+  EXPECT_TRUE(any_contains(warnings, "does not describe these data"))
+      << "R^2 " << refitted.overall.r2;
 }
 
 TEST(SamplingCheck, ADaqWithDroppedSamplesIsNotDigitizedButAFlaggedRunIs) {
@@ -91,7 +102,10 @@ TEST(SamplingCheck, ADaqWithDroppedSamplesIsNotDigitizedButAFlaggedRunIs) {
 
 TEST(SimulatedCornea, RaisesNoBaseMisfitWarning) {
   const ForceModel model = ForceModel::paper_interpreted();
-  const Comparison refitted = compare(model, {test_runs::simulated_cut(1.0, 12.0, 15.0, 1), test_runs::simulated_cut(1.0, 12.0, 18.0, 2)}, true);
+  const Comparison refitted = compare(
+      model,
+      {test_runs::simulated_cut(1.0, 12.0, 15.0, 1), test_runs::simulated_cut(1.0, 12.0, 18.0, 2)},
+      true);
   std::printf("simulated cornea: refitted Eq. 1 R^2 %.4f\n", refitted.overall.r2);
   EXPECT_GT(refitted.overall.r2, kMinBaselineR2);
   const auto warnings = base_misfit_warnings(model, refitted);

@@ -33,7 +33,8 @@ RunData with_known_errors(const RunData& run, const Segmentation& seg) {
   RunData out = run;
   for (std::size_t i = 0; i < run.size(); ++i) {
     if (seg.phase[i] == Phase::kRetraction) out.force_N[i] += kRetractionOffset_N;
-    if (seg.phase[i] == Phase::kHold) out.force_N[i] += kHoldSlope_N_per_s * (run.t_s[i] - run.t_s[seg.hold_begin]);
+    if (seg.phase[i] == Phase::kHold)
+      out.force_N[i] += kHoldSlope_N_per_s * (run.t_s[i] - run.t_s[seg.hold_begin]);
   }
   return out;
 }
@@ -79,11 +80,14 @@ TEST(ReportSeries, CarryTheSignedResidualByDirectionAndInTheHold) {
   for (std::size_t b = 0; b < after["depth"]["retraction_N"].size(); ++b) {
     const auto& a = after["depth"]["retraction_N"][b];
     if (a.is_null()) continue;
-    EXPECT_NEAR(a.get<double>() - before["depth"]["retraction_N"][b].get<double>(), kRetractionOffset_N, 1e-9) << "bin " << b;
+    EXPECT_NEAR(a.get<double>() - before["depth"]["retraction_N"][b].get<double>(),
+                kRetractionOffset_N, 1e-9)
+        << "bin " << b;
     ++bins;
   }
   EXPECT_GT(bins, 50) << "retraction from 12 mm covers most bins";
-  EXPECT_NEAR(mean_of(after["depth"]["insertion_N"]), mean_of(before["depth"]["insertion_N"]), 1e-12);
+  EXPECT_NEAR(mean_of(after["depth"]["insertion_N"]), mean_of(before["depth"]["insertion_N"]),
+              1e-12);
   // The hold trace follows the ramp in time-in-hold.
   ASSERT_EQ(after["hold"].size(), 1U);
   const auto& t = after["hold"][0]["t_s"];
@@ -91,7 +95,8 @@ TEST(ReportSeries, CarryTheSignedResidualByDirectionAndInTheHold) {
   const auto& r_before = before["hold"][0]["residual_N"];
   EXPECT_NEAR(t.back().get<double>(), 2.0, 0.1);
   for (std::size_t k = 0; k < t.size(); k += 37) {
-    EXPECT_NEAR(r_after[k].get<double>() - r_before[k].get<double>(), kHoldSlope_N_per_s * t[k].get<double>(), 1e-9);
+    EXPECT_NEAR(r_after[k].get<double>() - r_before[k].get<double>(),
+                kHoldSlope_N_per_s * t[k].get<double>(), 1e-9);
   }
   // One small multiple per run, measured and model on the same time axis.
   ASSERT_EQ(after["runs"].size(), 1U);
@@ -105,23 +110,27 @@ TEST(HtmlReport, EmbedsThePlottedSeriesAndItsAssets) {
   const Comparison before = compare(ForceModel::paper_interpreted(), {run});
   const Comparison after = compare(ForceModel::paper_interpreted(), {run}, true);
   const ReportAssets assets = find_report_assets(RIG_TEST_BIN_DIR);
-  const std::string html = render_report({run}, {"fit", &before, &after, nlohmann::json::object()}, assets);
+  const std::string html =
+      render_report({run}, {"fit", &before, &after, nlohmann::json::object()}, assets);
   EXPECT_NE(html.find("function rigLabPlots"), std::string::npos);
   EXPECT_NE(html.find(assets.uplot_js.substr(0, 200)), std::string::npos) << "uPlot is inlined";
   const nlohmann::json data = embedded_data(html);
   ASSERT_TRUE(data.contains("series"));
   EXPECT_EQ(data["kind"], "fit");
-  EXPECT_EQ(data["series"], report_series({run}, before, &after)) << "the file plots exactly the computed series";
+  EXPECT_EQ(data["series"], report_series({run}, before, &after))
+      << "the file plots exactly the computed series";
   const auto& panel = data["series"]["runs"][0];
   EXPECT_NEAR(panel["after_rmse_N"].get<double>(), after.runs[0].overall.rmse_N, 1e-12);
-  EXPECT_LE(panel["after_rmse_N"].get<double>(), panel["rmse_N"].get<double>() + 1e-9) << "refitting never makes the overlay worse";
+  EXPECT_LE(panel["after_rmse_N"].get<double>(), panel["rmse_N"].get<double>() + 1e-9)
+      << "refitting never makes the overlay worse";
 }
 
 TEST(ReportFile, AFailedWriteLeavesNoFileAndKeepsTheOldOne) {
   testing::ScratchDir dir("report-file");
   EXPECT_THROW(write_file_atomically(dir.file("missing/dir/r.html"), "x"), std::runtime_error);
   EXPECT_FALSE(std::filesystem::exists(dir.file("missing")));
-  std::filesystem::create_directories(dir.file("taken.html"));  // a directory where the file should go
+  std::filesystem::create_directories(
+      dir.file("taken.html"));  // a directory where the file should go
   EXPECT_THROW(write_file_atomically(dir.file("taken.html"), "x"), std::runtime_error);
   EXPECT_TRUE(std::filesystem::is_directory(dir.file("taken.html")));
   write_file_atomically(dir.file("ok.html"), "first");
@@ -136,18 +145,28 @@ class ReportCli : public ::testing::Test {
  protected:
   void SetUp() override {
     unsetenv("RIG_WEB_ROOT");  // a fresh checkout's build tree, nothing configured
-    ASSERT_EQ(testing::run_command(testing::bin("rig") + " sim generate --out " + dir_.file("runs") +
-                                   " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11 --hold 1").exit_code, 0);
+    ASSERT_EQ(testing::run_command(
+                  testing::bin("rig") + " sim generate --out " + dir_.file("runs") +
+                  " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11 --hold 1")
+                  .exit_code,
+              0);
   }
-  testing::CommandResult rig(const std::string& args) { return testing::run_command(testing::bin("rig") + " " + args); }
+  testing::CommandResult rig(const std::string& args) {
+    return testing::run_command(testing::bin("rig") + " " + args);
+  }
   testing::ScratchDir dir_{"report-cli"};
 };
 
 TEST_F(ReportCli, CompareDiagnoseAndFitWriteReportsWithoutRigWebRoot) {
   const std::string runs = dir_.file("runs");
   ASSERT_EQ(rig("model compare " + runs + " --report " + dir_.file("compare.html")).exit_code, 0);
-  ASSERT_EQ(rig("model diagnose " + runs + " --only shaft_friction,sensor_drift --report " + dir_.file("diagnose.html")).exit_code, 0);
-  ASSERT_EQ(rig("model fit " + runs + " --add shaft_friction --report " + dir_.file("fit.html")).exit_code, 0);
+  ASSERT_EQ(rig("model diagnose " + runs + " --only shaft_friction,sensor_drift --report " +
+                dir_.file("diagnose.html"))
+                .exit_code,
+            0);
+  ASSERT_EQ(rig("model fit " + runs + " --add shaft_friction --report " + dir_.file("fit.html"))
+                .exit_code,
+            0);
   const nlohmann::json compared = embedded_data(read_all(dir_.file("compare.html")));
   const nlohmann::json diagnosed = embedded_data(read_all(dir_.file("diagnose.html")));
   const nlohmann::json fitted = embedded_data(read_all(dir_.file("fit.html")));
@@ -160,22 +179,27 @@ TEST_F(ReportCli, CompareDiagnoseAndFitWriteReportsWithoutRigWebRoot) {
   // the fitted model's much less.
   const auto& depth = fitted["series"]["depth"];
   const double gap_before = mean_of(depth["insertion_N"]) - mean_of(depth["retraction_N"]);
-  const double gap_after = mean_of(depth["after_insertion_N"]) - mean_of(depth["after_retraction_N"]);
+  const double gap_after =
+      mean_of(depth["after_insertion_N"]) - mean_of(depth["after_retraction_N"]);
   EXPECT_GT(gap_before, 0.003) << "friction pushes back inserting and pulls retracting";
   EXPECT_LT(std::abs(gap_after), 0.5 * gap_before);
-  for (const auto& panel : fitted["series"]["runs"]) EXPECT_LT(panel["after_rmse_N"].get<double>(), panel["rmse_N"].get<double>());
+  for (const auto& panel : fitted["series"]["runs"])
+    EXPECT_LT(panel["after_rmse_N"].get<double>(), panel["rmse_N"].get<double>());
 }
 
 TEST_F(ReportCli, AFailedReportLeavesNoFile) {
-  const auto missing_run = rig("model compare " + dir_.file("no-such-run.csv") + " --report " + dir_.file("a.html"));
+  const auto missing_run =
+      rig("model compare " + dir_.file("no-such-run.csv") + " --report " + dir_.file("a.html"));
   EXPECT_NE(missing_run.exit_code, 0);
   EXPECT_FALSE(std::filesystem::exists(dir_.file("a.html")));
-  const auto bad_folder = rig("model compare " + dir_.file("runs") + " --report " + dir_.file("nowhere/b.html"));
+  const auto bad_folder =
+      rig("model compare " + dir_.file("runs") + " --report " + dir_.file("nowhere/b.html"));
   EXPECT_NE(bad_folder.exit_code, 0);
   EXPECT_NE(bad_folder.output.find("nowhere/b.html"), std::string::npos) << bad_folder.output;
   std::ofstream(dir_.file("old.html")) << "old report";
-  const auto printed_refit = rig("model compare " + dir_.file("runs") + " --refit --model " + testing::source("model/params/paper-printed.toml") +
-                                 " --report " + dir_.file("old.html"));
+  const auto printed_refit = rig("model compare " + dir_.file("runs") + " --refit --model " +
+                                 testing::source("model/params/paper-printed.toml") + " --report " +
+                                 dir_.file("old.html"));
   EXPECT_NE(printed_refit.exit_code, 0);
   EXPECT_EQ(read_all(dir_.file("old.html")), "old report") << "the old file is untouched";
 }

@@ -16,7 +16,8 @@ LabViews diagnose_views(const ForceModel& model, const std::vector<RunData>& run
   return {compare(model, runs, true), std::nullopt};
 }
 
-LabViews fit_views(const ForceModel& model, const ForceModel& fitted, const std::vector<RunData>& runs) {
+LabViews fit_views(const ForceModel& model, const ForceModel& fitted,
+                   const std::vector<RunData>& runs) {
   require_fittable(model, "fit");
   return {compare(model, runs, true), compare(fitted, runs, false)};
 }

@@ -21,7 +21,8 @@ struct LabViews {
 
 LabViews compare_views(const ForceModel& model, const std::vector<RunData>& runs, bool refit);
 LabViews diagnose_views(const ForceModel& model, const std::vector<RunData>& runs);
-LabViews fit_views(const ForceModel& model, const ForceModel& fitted, const std::vector<RunData>& runs);
+LabViews fit_views(const ForceModel& model, const ForceModel& fitted,
+                   const std::vector<RunData>& runs);
 // The plotted series (report_series) of these views.
 nlohmann::json views_series(const std::vector<RunData>& runs, const LabViews& views);
 // Throws ModelFileError if `model` is a printed-form file: diagnose and fit need the

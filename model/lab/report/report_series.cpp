@@ -34,16 +34,24 @@ struct DepthBins {
   double width_mm;
 };
 
-bool inserting(const Segmentation& seg, std::size_t i) { return i <= seg.insertion_end && seg.phase[i] != Phase::kApproach; }
-bool retracting(const Segmentation& seg, std::size_t i) { return seg.phase[i] == Phase::kRetraction; }
+bool inserting(const Segmentation& seg, std::size_t i) {
+  return i <= seg.insertion_end && seg.phase[i] != Phase::kApproach;
+}
+bool retracting(const Segmentation& seg, std::size_t i) {
+  return seg.phase[i] == Phase::kRetraction;
+}
 
-double residual(const RunData& run, const RunComparison& c, std::size_t i) { return run.force_N[i] - c.prediction[i]; }
+double residual(const RunData& run, const RunComparison& c, std::size_t i) {
+  return run.force_N[i] - c.prediction[i];
+}
 
-nlohmann::json depth_series(const std::vector<RunData>& runs, const Comparison& before, const Comparison* after,
-                            const SeriesLimits& limits) {
+nlohmann::json depth_series(const std::vector<RunData>& runs, const Comparison& before,
+                            const Comparison* after, const SeriesLimits& limits) {
   double deepest = 0.0;
   for (const auto& r : before.runs) deepest = std::max(deepest, r.segmentation.max_depth_mm);
-  const double width = std::max(0.05, std::ceil(std::max(deepest, 0.05) / static_cast<double>(limits.depth_bins) / 0.05) * 0.05);
+  const double width = std::max(
+      0.05,
+      std::ceil(std::max(deepest, 0.05) / static_cast<double>(limits.depth_bins) / 0.05) * 0.05);
   const auto count = static_cast<std::size_t>(std::max(1.0, std::ceil(deepest / width)));
   DepthBins in(count, width), out(count, width), in_after(count, width), out_after(count, width);
   for (std::size_t r = 0; r < runs.size(); ++r) {
@@ -52,12 +60,14 @@ nlohmann::json depth_series(const std::vector<RunData>& runs, const Comparison& 
       const bool ins = inserting(seg, i), ret = retracting(seg, i);
       if (!ins && !ret) continue;
       (ins ? in : out).add(runs[r].x_mm[i], residual(runs[r], before.runs[r], i));
-      if (after != nullptr) (ins ? in_after : out_after).add(runs[r].x_mm[i], residual(runs[r], after->runs[r], i));
+      if (after != nullptr)
+        (ins ? in_after : out_after).add(runs[r].x_mm[i], residual(runs[r], after->runs[r], i));
     }
   }
   nlohmann::json x = nlohmann::json::array();
   for (std::size_t b = 0; b < count; ++b) x.push_back((static_cast<double>(b) + 0.5) * width);
-  nlohmann::json j = {{"x_mm", x}, {"bin_mm", width}, {"insertion_N", in.means()}, {"retraction_N", out.means()}};
+  nlohmann::json j = {
+      {"x_mm", x}, {"bin_mm", width}, {"insertion_N", in.means()}, {"retraction_N", out.means()}};
   if (after != nullptr) {
     j["after_insertion_N"] = in_after.means();
     j["after_retraction_N"] = out_after.means();
@@ -65,31 +75,40 @@ nlohmann::json depth_series(const std::vector<RunData>& runs, const Comparison& 
   return j;
 }
 
-std::size_t stride(std::size_t samples, std::size_t points) { return std::max<std::size_t>(1, (samples + points - 1) / std::max<std::size_t>(points, 1)); }
+std::size_t stride(std::size_t samples, std::size_t points) {
+  return std::max<std::size_t>(1, (samples + points - 1) / std::max<std::size_t>(points, 1));
+}
 
-nlohmann::json hold_series(const std::vector<RunData>& runs, const Comparison& before, const Comparison* after, const SeriesLimits& limits) {
+nlohmann::json hold_series(const std::vector<RunData>& runs, const Comparison& before,
+                           const Comparison* after, const SeriesLimits& limits) {
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t r = 0; r < runs.size() && out.size() < limits.runs_shown; ++r) {
     const Segmentation& seg = before.runs[r].segmentation;
     if (seg.hold_end <= seg.hold_begin) continue;
-    nlohmann::json trace = {{"label", before.runs[r].label}, {"t_s", nlohmann::json::array()}, {"residual_N", nlohmann::json::array()}};
+    nlohmann::json trace = {{"label", before.runs[r].label},
+                            {"t_s", nlohmann::json::array()},
+                            {"residual_N", nlohmann::json::array()}};
     if (after != nullptr) trace["after_residual_N"] = nlohmann::json::array();
     const double t0 = runs[r].t_s[seg.hold_begin];
-    for (std::size_t i = seg.hold_begin; i < seg.hold_end; i += stride(seg.hold_end - seg.hold_begin, limits.points_per_run)) {
+    for (std::size_t i = seg.hold_begin; i < seg.hold_end;
+         i += stride(seg.hold_end - seg.hold_begin, limits.points_per_run)) {
       trace["t_s"].push_back(runs[r].t_s[i] - t0);
       trace["residual_N"].push_back(residual(runs[r], before.runs[r], i));
-      if (after != nullptr) trace["after_residual_N"].push_back(residual(runs[r], after->runs[r], i));
+      if (after != nullptr)
+        trace["after_residual_N"].push_back(residual(runs[r], after->runs[r], i));
     }
     out.push_back(std::move(trace));
   }
   return out;
 }
 
-nlohmann::json run_panels(const std::vector<RunData>& runs, const Comparison& before, const Comparison* after, const SeriesLimits& limits) {
+nlohmann::json run_panels(const std::vector<RunData>& runs, const Comparison& before,
+                          const Comparison* after, const SeriesLimits& limits) {
   nlohmann::json out = nlohmann::json::array();
   for (std::size_t r = 0; r < runs.size() && r < limits.runs_shown; ++r) {
     const RunData& run = runs[r];
-    nlohmann::json panel = {{"label", before.runs[r].label}, {"rmse_N", before.runs[r].overall.rmse_N}};
+    nlohmann::json panel = {{"label", before.runs[r].label},
+                            {"rmse_N", before.runs[r].overall.rmse_N}};
     std::vector<double> t, x, measured, model, fitted;
     for (std::size_t i = 0; i < run.size(); i += stride(run.size(), limits.points_per_run)) {
       t.push_back(run.t_s[i]);
@@ -113,13 +132,17 @@ nlohmann::json run_panels(const std::vector<RunData>& runs, const Comparison& be
 
 }  // namespace
 
-nlohmann::json report_series(const std::vector<RunData>& runs, const Comparison& before, const Comparison* after, const SeriesLimits& limits) {
-  if (before.runs.size() != runs.size() || (after != nullptr && after->runs.size() != runs.size())) {
+nlohmann::json report_series(const std::vector<RunData>& runs, const Comparison& before,
+                             const Comparison* after, const SeriesLimits& limits) {
+  if (before.runs.size() != runs.size() ||
+      (after != nullptr && after->runs.size() != runs.size())) {
     throw std::invalid_argument("report: the comparisons do not cover the same runs");
   }
   if (runs.empty()) throw std::invalid_argument("report: no runs");
-  nlohmann::json j = {{"before", before.model_name}, {"depth", depth_series(runs, before, after, limits)},
-                      {"hold", hold_series(runs, before, after, limits)}, {"runs", run_panels(runs, before, after, limits)}};
+  nlohmann::json j = {{"before", before.model_name},
+                      {"depth", depth_series(runs, before, after, limits)},
+                      {"hold", hold_series(runs, before, after, limits)},
+                      {"runs", run_panels(runs, before, after, limits)}};
   if (after != nullptr) j["after"] = after->model_name;
   return j;
 }

@@ -21,7 +21,7 @@ struct SeriesLimits {
 };
 
 // `after` may be null. Both comparisons must be of `runs`, in the same order.
-nlohmann::json report_series(const std::vector<RunData>& runs, const Comparison& before, const Comparison* after,
-                             const SeriesLimits& limits = {});
+nlohmann::json report_series(const std::vector<RunData>& runs, const Comparison& before,
+                             const Comparison* after, const SeriesLimits& limits = {});
 
 }  // namespace rig::model
