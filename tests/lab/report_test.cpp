@@ -1,6 +1,6 @@
 // The model lab's reports: the plotted series carry the signed residual where it is (by
-// direction, in the hold, per run), the HTML file carries that data and its assets, the
-// CLI writes reports without RIG_WEB_ROOT, and a failure never leaves a file behind.
+// direction, in the hold, per run), the HTML file carries that data and its assets, and a
+// failed write never leaves a file behind. (The CLI's --report: report_cli_test.cpp.)
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -16,6 +16,7 @@
 #include "lab_test_runs.hpp"
 #include "report/report_file.hpp"
 #include "report/report_series.hpp"
+#include "report_test_helpers.hpp"
 #include "run_csv.hpp"
 #include "test_paths.hpp"
 
@@ -37,33 +38,6 @@ RunData with_known_errors(const RunData& run, const Segmentation& seg) {
       out.force_N[i] += kHoldSlope_N_per_s * (run.t_s[i] - run.t_s[seg.hold_begin]);
   }
   return out;
-}
-
-double mean_of(const nlohmann::json& values) {
-  double sum = 0.0;
-  int n = 0;
-  for (const auto& v : values) {
-    if (v.is_null()) continue;
-    sum += v.get<double>();
-    ++n;
-  }
-  return n > 0 ? sum / n : NAN;
-}
-
-std::string read_all(const std::string& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// The report's data object, parsed back out of the HTML.
-nlohmann::json embedded_data(const std::string& html) {
-  const std::string marker = "const report = ";
-  const auto at = html.find(marker);
-  if (at == std::string::npos) return {};
-  const auto end = html.find(";\n", at);
-  return nlohmann::json::parse(html.substr(at + marker.size(), end - at - marker.size()));
 }
 
 TEST(ReportSeries, CarryTheSignedResidualByDirectionAndInTheHold) {
@@ -139,69 +113,6 @@ TEST(ReportFile, AFailedWriteLeavesNoFileAndKeepsTheOldOne) {
   int entries = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir.path())) ++entries;
   EXPECT_EQ(entries, 2) << "no temporary files are left behind";
-}
-
-class ReportCli : public ::testing::Test {
- protected:
-  void SetUp() override {
-    unsetenv("RIG_WEB_ROOT");  // a fresh checkout's build tree, nothing configured
-    ASSERT_EQ(testing::run_command(
-                  testing::bin("rig") + " sim generate --out " + dir_.file("runs") +
-                  " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11 --hold 1")
-                  .exit_code,
-              0);
-  }
-  testing::CommandResult rig(const std::string& args) {
-    return testing::run_command(testing::bin("rig") + " " + args);
-  }
-  testing::ScratchDir dir_{"report-cli"};
-};
-
-TEST_F(ReportCli, CompareDiagnoseAndFitWriteReportsWithoutRigWebRoot) {
-  const std::string runs = dir_.file("runs");
-  ASSERT_EQ(rig("model compare " + runs + " --report " + dir_.file("compare.html")).exit_code, 0);
-  ASSERT_EQ(rig("model diagnose " + runs + " --only shaft_friction,sensor_drift --report " +
-                dir_.file("diagnose.html"))
-                .exit_code,
-            0);
-  ASSERT_EQ(rig("model fit " + runs + " --add shaft_friction --report " + dir_.file("fit.html"))
-                .exit_code,
-            0);
-  const nlohmann::json compared = embedded_data(read_all(dir_.file("compare.html")));
-  const nlohmann::json diagnosed = embedded_data(read_all(dir_.file("diagnose.html")));
-  const nlohmann::json fitted = embedded_data(read_all(dir_.file("fit.html")));
-  EXPECT_EQ(compared["series"]["runs"].size(), 2U);
-  EXPECT_EQ(compared["series"]["hold"].size(), 2U);
-  EXPECT_EQ(diagnosed["lab"]["candidates"].size(), 2U);
-  EXPECT_EQ(diagnosed["series"]["runs"].size(), 2U);
-  ASSERT_TRUE(fitted["series"].contains("after"));
-  // Friction: the refitted baseline's residual parts by direction (+ inserting, - retracting),
-  // the fitted model's much less.
-  const auto& depth = fitted["series"]["depth"];
-  const double gap_before = mean_of(depth["insertion_N"]) - mean_of(depth["retraction_N"]);
-  const double gap_after =
-      mean_of(depth["after_insertion_N"]) - mean_of(depth["after_retraction_N"]);
-  EXPECT_GT(gap_before, 0.003) << "friction pushes back inserting and pulls retracting";
-  EXPECT_LT(std::abs(gap_after), 0.5 * gap_before);
-  for (const auto& panel : fitted["series"]["runs"])
-    EXPECT_LT(panel["after_rmse_N"].get<double>(), panel["rmse_N"].get<double>());
-}
-
-TEST_F(ReportCli, AFailedReportLeavesNoFile) {
-  const auto missing_run =
-      rig("model compare " + dir_.file("no-such-run.csv") + " --report " + dir_.file("a.html"));
-  EXPECT_NE(missing_run.exit_code, 0);
-  EXPECT_FALSE(std::filesystem::exists(dir_.file("a.html")));
-  const auto bad_folder =
-      rig("model compare " + dir_.file("runs") + " --report " + dir_.file("nowhere/b.html"));
-  EXPECT_NE(bad_folder.exit_code, 0);
-  EXPECT_NE(bad_folder.output.find("nowhere/b.html"), std::string::npos) << bad_folder.output;
-  std::ofstream(dir_.file("old.html")) << "old report";
-  const auto printed_refit = rig("model compare " + dir_.file("runs") + " --refit --model " +
-                                 testing::source("model/params/paper-printed.toml") + " --report " +
-                                 dir_.file("old.html"));
-  EXPECT_NE(printed_refit.exit_code, 0);
-  EXPECT_EQ(read_all(dir_.file("old.html")), "old report") << "the old file is untouched";
 }
 
 }  // namespace
