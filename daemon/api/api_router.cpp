@@ -11,6 +11,7 @@
 
 #include "archive_endpoints.hpp"
 #include "haptic_control.hpp"
+#include "model_lint.hpp"
 #include "lab_service.hpp"
 #include "sqlite_handle.hpp"
 #include "status_view.hpp"
@@ -215,6 +216,8 @@ void ApiRouter::model(const Request& request, Responder respond) {
     const proto::ModelSelect select = parse_body(request).get<proto::ModelSelect>();
     try {
       auto loaded = std::make_shared<const model::ForceModel>(model::ForceModel::load(select.file));
+      // A printed-form file is drawn as printed (never as our reading), and said so.
+      if (loaded->form == model::ModelForm::kPrinted) spdlog::warn("api: {}", model::printed_form_warning(*loaded));
       context_->hub->set_model(std::move(loaded));
       spdlog::info("api: live model is now {}", select.file);
     } catch (const std::exception& e) {

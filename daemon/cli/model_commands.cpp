@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "comparison.hpp"
+#include "data_checks.hpp"
 #include "diagnosis.hpp"
 #include "explanation_json.hpp"
 #include "html_report.hpp"
@@ -14,6 +15,8 @@
 #include "model_fit.hpp"
 #include "model_lint.hpp"
 #include "residual_explainer.hpp"
+#include "report/lab_views.hpp"
+#include "report/report_file.hpp"
 #include "run_loader.hpp"
 
 namespace rig::cli {
@@ -64,6 +67,16 @@ model::ForceModel load_model(const LabOptions& o) {
   return m;
 }
 
+// Renders the report completely before anything is written, then writes it atomically: an
+// error (assets missing, unwritable folder) leaves no file, or the old one untouched.
+void write_report(const std::string& path, const std::string& kind, const std::vector<model::RunData>& runs,
+                  const model::LabViews& views, const nlohmann::json& lab) {
+  const model::ReportAssets assets = model::find_report_assets(executable_dir());
+  model::ReportContent content{kind, &views.before, views.after ? &*views.after : nullptr, lab};
+  model::write_file_atomically(path, model::render_report(runs, content, assets));
+  std::cerr << "report written to " << path << "\n";
+}
+
 int lint(const CliContext& c, const std::string& file) {
   const model::ForceModel m = model::ForceModel::load(default_model_file(file));
   const auto findings = model::lint_model(m);
@@ -81,11 +94,13 @@ int lint(const CliContext& c, const std::string& file) {
 int compare(const CliContext& c, const LabOptions& o) {
   const model::ForceModel m = model::ForceModel::load(default_model_file(o.model));
   const auto runs = load_runs(o.paths, c.archive_path);
-  const model::Comparison cmp = model::compare(m, runs, o.refit);
-  if (!o.report.empty()) {
-    std::ofstream(o.report) << model::render_report(cmp, runs, model::find_uplot(executable_dir()));
-    std::cerr << "report written to " << o.report << "\n";
+  model::LabViews views = model::compare_views(m, runs, o.refit);
+  if (o.refit) {
+    for (auto& w : model::base_misfit_warnings(m, views.before)) views.before.warnings.push_back(std::move(w));
   }
+  const model::Comparison& cmp = views.before;
+  if (!o.report.empty()) write_report(o.report, "compare", runs, views, model::to_json(cmp));
+  for (const auto& w : cmp.warnings) std::cerr << "warning: " << w << "\n";
   if (c.json()) {
     std::cout << model::to_json(cmp).dump(2) << "\n";
     return 0;
@@ -114,7 +129,12 @@ int diagnose(const CliContext& c, const LabOptions& o) {
   model::DiagnoseOptions options;
   options.with = split_commas(o.with);
   options.only = split_commas(o.only);
-  const model::Diagnosis d = model::diagnose(m, runs, options);
+  model::require_fittable(m, "diagnose");
+  model::Diagnosis d = model::diagnose(m, runs, options);
+  // The refitted baseline: what the report plots, and whether Eq. 1 describes these data.
+  const model::LabViews views = model::diagnose_views(m, runs);
+  for (auto& w : model::base_misfit_warnings(m, views.before)) d.warnings.push_back(std::move(w));
+  if (!o.report.empty()) write_report(o.report, "diagnose", runs, views, model::to_json(d));
   if (c.json()) {
     std::cout << model::to_json(d).dump(2) << "\n";
     return 0;
@@ -139,7 +159,12 @@ int diagnose(const CliContext& c, const LabOptions& o) {
 int fit(const CliContext& c, const LabOptions& o) {
   const model::ForceModel m = load_model(o);
   const auto runs = load_runs(o.paths, c.archive_path);
-  const model::FitReport f = model::fit_model(m, runs, split_commas(o.add), o.per_run);
+  model::require_fittable(m, "fit");
+  model::FitReport f = model::fit_model(m, runs, split_commas(o.add), o.per_run);
+  const model::LabViews views = model::fit_views(m, f.fitted, runs);
+  for (auto& w : model::base_misfit_warnings(m, views.before)) f.warnings.push_back(std::move(w));
+  if (!o.report.empty()) write_report(o.report, "fit", runs, views, model::to_json(f));
+  for (const auto& w : f.warnings) std::cerr << "warning: " << w << "\n";
   if (!o.save.empty()) {
     f.fitted.save(o.save);
     std::cerr << "model saved to " << o.save << "\n";
@@ -245,6 +270,7 @@ void add_model_commands(CLI::App& app, CliContext& c, int& exit_code) {
   diag->add_option("--with", o->with, "effects already accepted (E1,E2): diagnose what remains");
   diag->add_option("--only", o->only, "consider only these candidates");
   diag->add_option("--terms", o->terms, "term files: their user terms are candidates too");
+  diag->add_option("--report", o->report, "write a self-contained HTML report (residuals of the refitted baseline)");
   diag->callback([&c, &exit_code, o] { exit_code = diagnose(c, *o); });
   CLI::App* fit_cmd = model->add_subcommand("fit", "refit with added effects; before/after error per phase");
   common(fit_cmd);
@@ -252,6 +278,7 @@ void add_model_commands(CLI::App& app, CliContext& c, int& exit_code) {
   fit_cmd->add_option("--save", o->save, "save the fitted model file (for the overlay and the haptics)");
   fit_cmd->add_flag("--per-run", o->per_run, "also fit Eq. 1 to each run alone");
   fit_cmd->add_option("--terms", o->terms, "term files whose user terms --add user:NAME may add");
+  fit_cmd->add_option("--report", o->report, "write a self-contained HTML report (before/after overlays)");
   fit_cmd->callback([&c, &exit_code, o] { exit_code = fit(c, *o); });
   CLI::App* explain_cmd = model->add_subcommand("explain", "propose a closed-form user term for what the residuals still carry");
   common(explain_cmd);

@@ -9,6 +9,7 @@
 #include "api_server.hpp"
 #include "camera_service.hpp"
 #include "haptic_service.hpp"
+#include "model_lint.hpp"
 #include "lab_worker.hpp"
 #include "camera/aravis_camera.hpp"
 #include "camera/v4l2_camera.hpp"
@@ -126,7 +127,9 @@ void RigdApp::start_services() {
   parts_->recorder->start();
   parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm, config_.stream.batch_ms);
   try {
-    parts_->hub->set_model(std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file)));
+    auto overlay = std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file));
+    if (overlay->form == model::ModelForm::kPrinted) spdlog::warn("model: {}", model::printed_form_warning(*overlay));
+    parts_->hub->set_model(std::move(overlay));
   } catch (const std::exception& e) {
     spdlog::warn("model: {} (the live overlay shows no model curve)", e.what());
   }

@@ -86,7 +86,7 @@ TEST(Archive, ARunLeftArmedByACrashIsInterruptedNotCancelled) {
 TEST(Archive, ImportedFilesExportAgainWithTheirMetadataAndChannels) {
   testing::ScratchDir dir("archive-import");
   Archive a(dir.file("a.sqlite"));
-  const model::RunData needle = model::read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const model::RunData needle = model::read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const std::int64_t id = a.import_run(needle);
   const model::RunData back = a.load_run(id);
   EXPECT_EQ(back.size(), needle.size());

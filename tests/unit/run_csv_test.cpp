@@ -115,7 +115,7 @@ TEST(RunCsv, AVeryLongMetadataLineIsReadWithoutRecursion) {
 }
 
 TEST(RunCsv, TheDigitisedNeedleDataImports) {
-  const RunData run = read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const RunData run = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   EXPECT_GT(run.size(), 800U);
   EXPECT_EQ(run.number("velocity_mm_s"), 10.0);
   EXPECT_EQ(run.warnings.size(), 1U);  // no IOP: a liver has none
