@@ -100,6 +100,22 @@ TEST_F(ModbusProtocolTest, ALateReplyIsATimeoutThatDoesNotHangAndTheLinkRecovers
   EXPECT_GE(daq_->counters().timeouts, 1U);
 }
 
+TEST_F(ModbusProtocolTest, WhileALateAnswerIsOnItsWayNoFurtherRequestQueuesBehindIt) {
+  panel_->set(proto::daq::sim_panel::kLateReplyUs, 20000);  // 20 ms > the 5 ms time-out
+  drivers::AnalogFrame frame;
+  EXPECT_EQ(daq_->read(frame), IoStatus::kTimeout);
+  const std::uint64_t sent = daq_->counters().transactions;
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(daq_->read(frame), IoStatus::kTimeout) << "the answer is still on its way";
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2)) << "waited for nothing";
+  EXPECT_EQ(daq_->counters().transactions, sent) << "a request was queued behind the late one";
+  panel_->set(proto::daq::sim_panel::kLateReplyUs, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  IoStatus status = IoStatus::kTimeout;
+  for (int i = 0; i < 3 && status != IoStatus::kOk; ++i) status = daq_->read(frame);
+  EXPECT_EQ(status, IoStatus::kOk);
+}
+
 TEST_F(ModbusProtocolTest, ADroppedLinkIsReportedAndReconnectedAfterItComesBack) {
   panel_->set(proto::daq::sim_panel::kLinkDrop, 20);  // 200 ms
   drivers::AnalogFrame frame;

@@ -4,6 +4,7 @@
 // pages, a CPU hog on every core and a disk writer. Counts the cuts that did not complete and
 // prints why (LOAD-FIGURE lines; docs/loop-timing.md quotes them).
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -44,6 +45,7 @@ std::string read_file(const std::string& path) {
 struct Cut {
   bool completed = false;
   std::string why;  // the demo's own words when it did not complete
+  std::string loop;  // loop figures of a completed cut: jitter p99, overruns, DAQ misses
 };
 
 // One `rig demo --once` on its own ports and state; with a browser on its page during the cut.
@@ -52,13 +54,13 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
   const std::string state = dir.file(name);
   const std::string log = dir.file(name + ".log");
   {
-    cli::ChildProcess demo({testing::bin("rig"), "demo", "--once", "--port", std::to_string(port), "--sim", testing::bin("rig-sim"),
+    cli::ChildProcess demo({testing::bin("rig"), "demo", "--once", "--format", "json", "--port", std::to_string(port), "--sim", testing::bin("rig-sim"),
                             "--rigd", testing::bin("rigd"), "--config", testing::source("config/rigd.sim.toml"), "--state-dir", state},
                            log);
     std::unique_ptr<cli::ChildProcess> browser;
     const auto end = std::chrono::steady_clock::now() + std::chrono::minutes(5);
     while (demo.running() && std::chrono::steady_clock::now() < end) {
-      if (with_browser && !browser && read_file(log).find("[demo] homing") != std::string::npos) {
+      if (with_browser && !browser && read_file(state + "/rigd.log").find("ready, API on") != std::string::npos) {
         browser = testing::BusyMachine::browser_on_page(dir, "http://127.0.0.1:" + std::to_string(port) + "/", name);
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -66,7 +68,17 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
   }
   const std::string out = read_file(log);
   Cut cut;
-  cut.completed = out.find("(completed)") != std::string::npos;
+  const auto summary = out.find("{\"");
+  if (summary != std::string::npos) {
+    try {
+      const auto j = nlohmann::json::parse(out.substr(summary, out.find('\n', summary) - summary));
+      cut.completed = j["outcome"] == "completed";
+      cut.loop = "jitter p99 " + std::to_string(j["loop_jitter_p99_us"].get<double>()) + " us, overruns " +
+                 std::to_string(j["loop_overruns"].get<long>()) + ", DAQ misses " + std::to_string(j["daq_misses"].get<long>());
+    } catch (const std::exception& e) {
+      cut.why = std::string("unreadable summary: ") + e.what();
+    }
+  }
   const auto failed = out.find("[demo] failed: ");
   cut.why = failed != std::string::npos ? out.substr(failed, out.find('\n', failed) - failed) : out.substr(out.size() > 400 ? out.size() - 400 : 0);
   return cut;
@@ -88,8 +100,8 @@ TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWitho
       if (cut->completed) ++completed;
       else faults.push_back("round " + std::to_string(round) + ": " + cut->why);
     }
-    std::printf("LOAD-ROUND | %d | browser-side cut %s | other cut %s\n", round, with_browser.completed ? "completed" : with_browser.why.c_str(),
-                beside.completed ? "completed" : beside.why.c_str());
+    std::printf("LOAD-ROUND | %d | browser-side cut: %s | other cut: %s\n", round,
+                (with_browser.completed ? with_browser.loop : with_browser.why).c_str(), (beside.completed ? beside.loop : beside.why).c_str());
     std::fflush(stdout);
   }
   std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n", 2 * kRounds, completed, faults.size());
