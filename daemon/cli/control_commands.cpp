@@ -69,6 +69,20 @@ bool wait_while_homing(const CliContext& c, double timeout_s, nlohmann::json& la
 
 constexpr double kHomingTimeout_s = 120.0;  // 60 mm of travel at the slowest homing speed, and back
 
+// Taring averages safety.tare_cycles readings (0.5 s): a `rig run` right after must find it done.
+bool wait_until_tared(const CliContext& c) {
+  const ApiClient client = c.client();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < end) {
+    const nlohmann::json s = parse_reply(client.get("/api/status"), "status");
+    if (s["tared"] == true && s["taring"] != true) return true;
+    if (s["state"] == "Fault" || s["state"] == "EStop") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::cerr << "tare: the load cell was not tared within 10 s\n";
+  return false;
+}
+
 int home_rig(const CliContext& c, bool wait) {
   if (!wait) return send_command(c, "home");
   const HttpReply reply = c.client().post("/api/home");
@@ -204,8 +218,11 @@ void add_control_commands(CLI::App& app, CliContext& c, int& exit_code) {
   CLI::App* home = app.add_subcommand("home", "find the home switch and park the carriage; returns once parked");
   home->add_flag("--no-wait", *home_no_wait, "return as soon as homing has started");
   home->callback([&c, &exit_code, home_no_wait] { exit_code = home_rig(c, !*home_no_wait); });
+  app.add_subcommand("tare", "zero the load cell (no load on the keratome); returns once tared")->callback([&c, &exit_code] {
+    exit_code = send_command(c, "tare");
+    if (exit_code == 0 && !wait_until_tared(c)) exit_code = 1;
+  });
   for (const auto& [name, help] : std::vector<std::pair<std::string, std::string>>{
-           {"tare", "zero the load cell (no load on the keratome)"},
            {"start", "start an armed run"}, {"stop", "stop motion now; a running cut ends as 'stopped'"},
            {"estop", "software e-stop (latched until reset)"}, {"reset", "leave Fault or EStop (home again afterwards)"}}) {
     app.add_subcommand(name, help)->callback([&c, &exit_code, n = name] { exit_code = send_command(c, n); });

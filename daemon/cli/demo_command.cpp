@@ -141,12 +141,14 @@ int run_demo(const CliContext& c, const DemoOptions& o) {
   else print_summary(summary);
   std::cout.flush();
   if (!o.once) {
-    std::cerr << "[demo] live overlay at " << api.url() << "/  (runs stay in " << archive_path << "); Ctrl-C to stop" << std::endl;
+    // Block Ctrl-C before saying it stops the demo: one pressed right after the line must
+    // end the demo the orderly way, not kill it.
     sigset_t signals;
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::cerr << "[demo] live overlay at " << api.url() << "/  (runs stay in " << archive_path << "); Ctrl-C to stop" << std::endl;
     int signal = 0;
     sigwait(&signals, &signal);
   }

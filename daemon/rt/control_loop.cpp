@@ -93,11 +93,15 @@ void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t l
   }
   in.consecutive_misses = consecutive_misses_;
   in.unanswered_ms = static_cast<double>(unanswered_ns_) * 1e-6;
-  // A loop that is late again and again cannot excuse every miss: past four times the limit of
-  // plain silence the link counts as lost all the same (the DAQ's watchdog has stopped the motor).
+  // A loop that is late again and again cannot excuse every miss: after four times as many
+  // failed requests as the limit holds periods, the link counts as lost all the same (the DAQ's
+  // watchdog has long stopped the motor). Counted in requests, not wall time: a VM stall that
+  // keeps both rigd and the DAQ off the CPU for 100 ms costs a few requests, not 100.
   const double silent_ms = static_cast<double>(now_ns - last_valid_reply_ns_) * 1e-6;
+  const double period_ms = static_cast<double>(period_ns_) * 1e-6;
+  const int max_failed_requests = static_cast<int>(std::ceil(4.0 * s_.safety.link_lost_after_ms / period_ms));
   in.link_lost = !in.io_ok && (in.unanswered_ms >= s_.safety.link_lost_after_ms - 1e-6 ||
-                               silent_ms >= 4.0 * s_.safety.link_lost_after_ms);
+                               consecutive_misses_ >= max_failed_requests);
   if (in.link_lost && in.unanswered_ms < s_.safety.link_lost_after_ms) in.unanswered_ms = silent_ms;
 }
 

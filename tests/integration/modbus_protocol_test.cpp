@@ -1,6 +1,8 @@
 // The Modbus DAQ driver against the simulated rig's real Modbus TCP server on loopback, and
 // mbpoll (an independent client) reading the same server.
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <array>
 #include <atomic>
@@ -24,6 +26,11 @@ class ModbusProtocolTest : public ::testing::Test {
   void SetUp() override {
     server_ = std::make_unique<sim::ModbusSimServer>(physics_, sim::SimServerOptions{"127.0.0.1", 0});
     thread_ = std::thread([this] { server_->run(stop_); });
+    // The simulated DAQ answers from "its own CPU", as rig-sim does: on a busy machine a
+    // normally scheduled server thread can stay off the CPU past any time-out.
+    sched_param param{};
+    param.sched_priority = 70;
+    pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);  // refused without privileges: fine
     drivers::ModbusDaqSettings s;
     s.port = server_->port();
     s.response_timeout_us = 5000;  // generous: these tests check behaviour, not speed

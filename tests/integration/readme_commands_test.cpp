@@ -125,7 +125,7 @@ class DocumentedCommands : public ::testing::Test {
     EXPECT_FALSE(f.timed_out) << where << " did not finish\n" << f.err;
     EXPECT_EQ(f.exit_code, 0) << where << "\nstdout:\n" << f.out << "\nstderr:\n" << f.err;
     if (c.text.find("--format json") != std::string::npos) {
-      EXPECT_NO_THROW((void)nlohmann::json::parse(f.out)) << where << " printed no JSON:\n" << f.out;
+      EXPECT_TRUE(nlohmann::json::accept(f.out)) << where << " printed no JSON:\n" << f.out;
     }
   }
 
