@@ -6,8 +6,6 @@
 // fault and its outcome, and nothing moves again before an explicit reset.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <pthread.h>
-#include <sched.h>
 #include <signal.h>
 
 #include <algorithm>
@@ -17,6 +15,7 @@
 
 #include "archive.hpp"
 #include "rig_processes.hpp"
+#include "scoped_realtime.hpp"
 #include "sim_panel.hpp"
 #include "sqlite_handle.hpp"
 
@@ -58,8 +57,12 @@ class FaultMatrix : public ::testing::Test {
                            const std::string& reason, const std::function<void(testing::SimPanel&)>& clear) {
     Outcome out;
     testing::SimPanel panel(rig_->sim_port());
-    const double injected_at = panel.sim_time_s();
-    inject(panel);
+    double injected_at = 0.0;
+    {
+      const testing::ScopedRealtime one_step;  // read the DAQ's time and inject, undisturbed
+      injected_at = panel.sim_time_s();
+      inject(panel);
+    }
     EXPECT_TRUE(rig_->wait([&](const json& s) { return s["state"] == state; }, 15)) << rig_->status().dump();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     testing::SimPanel after(rig_->sim_port());  // a dropped link closes the first panel's connection
@@ -238,16 +241,11 @@ TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
   cut_into_tissue();
   testing::SimPanel panel(rig_->sim_port());
-  // Reading the DAQ's time and killing rigd must be one step: a busy machine that takes this
-  // (normally scheduled) test off the CPU in between would date the kill too early.
-  sched_param realtime{};
-  realtime.sched_priority = 60;
-  const bool raised = pthread_setschedparam(pthread_self(), SCHED_FIFO, &realtime) == 0;
-  const double killed_at = panel.sim_time_s();
-  ::kill(rig_->rigd().pid(), SIGKILL);
-  if (raised) {
-    sched_param normal{};
-    pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+  double killed_at = 0.0;
+  {
+    const testing::ScopedRealtime one_step;  // read the DAQ's time and kill, undisturbed
+    killed_at = panel.sim_time_s();
+    ::kill(rig_->rigd().pid(), SIGKILL);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   // Nobody is left to command the motor: the DAQ's own watchdog (5 ms) cuts it.

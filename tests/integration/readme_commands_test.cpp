@@ -4,7 +4,8 @@
 // rig this test starts (RIG_API, RIG_ARCHIVE; PORT in a command is rig-sim's port).
 // Commands that run until Ctrl-C get one: `./rig demo` once it serves the overlay, benches
 // and haptic playback after a bounded time (they must still be running or have ended well).
-// Two are not run, each for a stated reason, and the test checks what it can of them.
+// Three are not run (`./rig test`, `./rig stress`, `./rig lint`: minutes to hours), each for a
+// stated reason, and the test checks what it can of them.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <signal.h>
@@ -47,7 +48,8 @@ Finished run_in_shell(const std::string& command, const std::string& dir, double
   if (pid == 0) {
     setpgid(0, 0);
     if (chdir(dir.c_str()) != 0) _exit(126);
-    execl("/bin/sh", "sh", "-c", (command + " >" + out + " 2>" + err).c_str(), static_cast<char*>(nullptr));
+    // exec: the command itself, not a shell waiting for it, gets the Ctrl-C and gives the status.
+    execl("/bin/sh", "sh", "-c", ("exec " + command + " >" + out + " 2>" + err).c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   setpgid(pid, pid);
@@ -110,6 +112,11 @@ class DocumentedCommands : public ::testing::Test {
     if (w[0] == "./rig" && sub == "test") {
       // Not run: it is the run this test is part of (40 min). Its entry in the script is checked.
       EXPECT_EQ(testing::run_command("grep -q '^ *test) shift; cmd_test' " + testing::source("rig")).exit_code, 0) << where;
+      return;
+    }
+    if (w[0] == "./rig" && sub == "stress") {
+      // Not run: it is the load tier (about 30 min, label load). Its entry in the script is checked.
+      EXPECT_EQ(testing::run_command("grep -q '^ *stress) shift; cmd_stress' " + testing::source("rig")).exit_code, 0) << where;
       return;
     }
     if (w[0] == "./rig" && sub == "lint") {
