@@ -48,6 +48,8 @@ void add_loop_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("loop.priority", 0, 99, "SCHED_FIFO priority of the RT thread, 0 = none", RIG_AT(thread.priority)));
   f.push_back(integer("loop.cpu", -1, 1023, "CPU to pin the RT thread to, -1 = any", RIG_AT(thread.cpu)));
   f.push_back(boolean("loop.lock_memory", "mlockall before the loop starts", RIG_AT(thread.lock_memory)));
+  f.push_back(integer("loop.cpu_wake_latency_us", -1, 100000, "longest CPU wake-up from idle while the loop runs (PM QoS), -1 = no request [us]",
+                      RIG_AT(thread.cpu_wake_latency_us)));
   for (const char* channel : {"force", "position", "iop"}) {
     const std::string base = std::string("calibration.") + channel;
     auto pick = [c = std::string(channel)](RigdConfig& cfg) -> rt::LinearCalibration& {
@@ -91,7 +93,7 @@ void add_iop_and_safety_fields(std::vector<ConfigField>& f) {
   f.push_back(number("iop.fault_band_mmHg", 0.1, 100, "fault if IOP leaves target +- band during a cut [mmHg]", RIG_AT(loop.iop.fault_band_mmHg)));
   f.push_back(number("iop.fault_after_ms", 1, 5000, "... for this long [ms] (a pump step is not a leak)", RIG_AT(loop.iop.fault_after_ms)));
   f.push_back(number("safety.force_limit_N", 0.01, 100, "load-cell protection [N]", RIG_AT(loop.safety.force_limit_N)));
-  f.push_back(integer("safety.max_consecutive_misses", 1, 100, "failed DAQ reads in a row before link loss", RIG_AT(loop.safety.max_consecutive_misses)));
+  f.push_back(number("safety.link_lost_after_ms", 0.5, 1000, "time without a valid DAQ reply (on-time cycles) before link loss [ms]", RIG_AT(loop.safety.link_lost_after_ms)));
   f.push_back(integer("safety.overrun_storm_count", 1, 64, "overruns ...", RIG_AT(loop.safety.overrun_storm_count)));
   f.push_back(integer("safety.overrun_storm_window_cycles", 1, 100000, "... within this many cycles fault the loop", RIG_AT(loop.safety.overrun_storm_window_cycles)));
   f.push_back(number("safety.max_following_error_mm", 0.01, 50, "fault when the carriage lags its reference by more [mm]", RIG_AT(loop.safety.max_following_error_mm)));

@@ -68,6 +68,9 @@ std::string prometheus_metrics(ApiContext& c) {
   counter("rigd_loop_overruns_total", "cycles that ended after the next deadline", static_cast<double>(n.overruns.load()));
   counter("rigd_loop_missed_cycles_total", "deadlines skipped after overruns", static_cast<double>(n.missed_cycles.load()));
   counter("rigd_daq_misses_total", "failed DAQ reads", static_cast<double>(n.io_misses.load()));
+  counter("rigd_loop_late_wakes_total", "cycles begun more than half a period late", static_cast<double>(n.late_wakes.load()));
+  counter("rigd_daq_misses_late_wake_total", "failed DAQ reads in late cycles (not held against the link)",
+          static_cast<double>(n.late_wake_misses.load()));
   counter("rigd_recorder_drops_total", "samples the recorder could not take (faults the run)", static_cast<double>(n.recorder_drops.load()));
   counter("rigd_stream_ring_drops_total", "samples dropped before the stream hub", static_cast<double>(n.stream_drops.load()));
   counter("rigd_stream_messages_dropped_total", "WebSocket messages dropped for slow clients", static_cast<double>(c.counters.ws_messages_dropped.load()));

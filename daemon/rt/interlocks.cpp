@@ -10,9 +10,7 @@ InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& 
   if (state == RunState::kEStop) return {};
   if (in.inputs.estop) return {FaultCode::kEstopInput, 1.0};
   if (state == RunState::kFault || !is_motion_state(state)) return {};  // at rest: reported, not faulted
-  if (in.consecutive_misses >= s_.safety.max_consecutive_misses) {
-    return {FaultCode::kLinkLost, static_cast<double>(in.consecutive_misses)};
-  }
+  if (in.link_lost) return {FaultCode::kLinkLost, in.unanswered_ms};
   return check_motion(in, machine, following_error_mm);
 }
 

@@ -19,6 +19,7 @@
 #include "control_loop.hpp"
 #include "force_model.hpp"
 #include "modbus/modbus_daq.hpp"
+#include "clock/cpu_wake_latency_request.hpp"
 #include "clock/monotonic_clock.hpp"
 #include "recorder.hpp"
 #include "rt_thread.hpp"
@@ -57,6 +58,7 @@ struct RigdApp::Parts {
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
+  std::unique_ptr<drivers::CpuWakeLatencyRequest> wake_latency;
 };
 
 RigdApp::RigdApp(config::RigdConfig config) : config_(std::move(config)), parts_(std::make_unique<Parts>()) {}
@@ -114,11 +116,16 @@ void RigdApp::start_loop() {
   parts_->loop = std::make_unique<rt::ControlLoop>(config_.loop, hw, *parts_->channels);
   RtThreadReport memory = lock_process_memory(config_.thread.lock_memory);
   parts_->rt_report = memory;
+  parts_->wake_latency = std::make_unique<drivers::CpuWakeLatencyRequest>(config_.thread.cpu_wake_latency_us);
+  if (config_.thread.cpu_wake_latency_us >= 0 && !parts_->wake_latency->held()) {
+    parts_->rt_report.warnings.push_back(parts_->wake_latency->why_not() + ": idle CPUs may wake late for the loop and the DAQ");
+  }
   RtThreadOptions options{config_.thread.priority, config_.thread.cpu, config_.thread.lock_memory};
   rt_thread_ = start_rt_thread(options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
   for (const auto& warning : parts_->rt_report.warnings) spdlog::warn("RT: {}", warning);
-  spdlog::info("RT loop at {} Hz ({}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
-               parts_->rt_report.memory_locked ? ", memory locked" : "");
+  spdlog::info("RT loop at {} Hz ({}{}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
+               parts_->rt_report.memory_locked ? ", memory locked" : "",
+               parts_->wake_latency->held() ? ", CPU wake-up <= " + std::to_string(config_.thread.cpu_wake_latency_us) + " us" : "");
 }
 
 void RigdApp::start_services() {
@@ -222,6 +229,7 @@ void RigdApp::shutdown() {
   if (rt_thread_.joinable()) {
     stop_loop_.store(true);
     rt_thread_.join();  // the loop writes motor off on its way out
+    parts_->wake_latency.reset();
     spdlog::info("RT loop stopped, motor off");
   }
   if (parts_->haptic) parts_->haptic->stop();
