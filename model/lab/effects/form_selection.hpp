@@ -1,0 +1,38 @@
+#pragma once
+// Picks the form of an effect family: fits the baseline once, then every form of the family
+// on top of it (the baseline held at its fit, so each form costs a few parameters only), and
+// keeps the form with the lowest BIC. The sample count is the autocorrelation-corrected
+// effective one of the baseline's residuals (the same for every form), the parameter count
+// the form's own: shared parameters + linear columns x runs (per-run columns) or x 1.
+// For speed the fits use at most 8 runs, evenly spread, and 300 rows per run.
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "effect_term.hpp"
+#include "force_model.hpp"
+
+namespace rig::model::effects {
+
+struct FormChoice {
+  int form = 0;
+  std::string note;                 // "form chosen by BIC among 4 (next: viscous, +31)"
+  std::vector<double> bic;          // per form; +inf where the form could not be fitted
+};
+
+struct FormSelectionInput {
+  const ForceModel* model = nullptr;
+  std::vector<const EffectTerm*> base_terms;          // already in the model (saved, --with)
+  std::vector<std::vector<double>> base_params;       // their start values, in order
+  std::vector<const PreparedRun*> runs;
+  int forms = 1;
+  std::function<std::unique_ptr<EffectTerm>(int form)> make_form;
+};
+
+FormChoice select_form(const FormSelectionInput& in);
+
+// Parameters a form costs in an information criterion (form labels excluded).
+int form_parameter_count(const EffectTerm& term, std::size_t runs);
+
+}  // namespace rig::model::effects
