@@ -13,7 +13,7 @@ namespace {
 
 constexpr std::size_t kMaxRuns = 8;
 constexpr std::size_t kMaxRows = 300;
-constexpr int kMaxEvaluations = 120;
+constexpr int kMaxEvaluations = 200;
 
 // At most kMaxRuns runs, evenly spread, each with its fit rows thinned to kMaxRows.
 std::vector<PreparedRun> selection_runs(const std::vector<const PreparedRun*>& runs) {
@@ -110,7 +110,7 @@ FormChoice select_form(const FormSelectionInput& in) {
     p.base = base_fit.base;
     for (std::size_t k = 0; k < base_fit.shared.size(); ++k) p.shared[k] = base_fit.shared[k];
     pick_start(predictor, runs, *term, p);
-    const FitResult fit = Fitter(predictor, runs, false).fit(p, kMaxEvaluations);
+    const FitResult fit = Fitter(predictor, runs).fit(p, kMaxEvaluations);
     const double sse = sse_and_n_effective(predictor, runs, fit.params).first;
     const double rows = static_cast<double>(std::max<std::size_t>(1, [&] {
       std::size_t n = 0;
