@@ -160,7 +160,8 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
   in.runs = runs_;
   in.forms = static_cast<int>(make_in_form(name, -1)->forms().size());
   in.make_form = [&](int form) { return make_in_form(name, form); };
-  const effects::FormChoice choice = effects::select_form(in);
+  std::call_once(cache_->baseline_once, [&] { cache_->baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in)); });
+  const effects::FormChoice choice = effects::select_form(in, *cache_->baseline);
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->chosen.emplace(name, std::make_pair(choice.form, choice.note));
   return with_note(choice.form, choice.note);

@@ -16,6 +16,9 @@
 #include "force_model.hpp"
 
 namespace rig::model {
+namespace effects {
+struct SelectionBaseline;
+}
 
 class EffectCatalogue {
  public:
@@ -28,7 +31,8 @@ class EffectCatalogue {
   std::unique_ptr<EffectTerm> make_form(const std::string& name, const std::string& form) const;
   // A saved effect: the form whose parameter names the setting carries (most names wins).
   std::unique_ptr<EffectTerm> make_saved(const EffectSetting& setting) const;
-  // Effects taken as part of the baseline when forms are selected (diagnose --with).
+  // Effects taken as part of the baseline when forms are selected (diagnose --with); call
+  // before the first make().
   void set_baseline(const std::vector<std::string>& with) { with_ = with; }
   // Off: make() returns each family's default form (the lab's form before families).
   void set_form_selection(bool on) { select_forms_ = on; }
@@ -42,6 +46,8 @@ class EffectCatalogue {
 
   struct SelectionCache {
     std::mutex mutex;
+    std::once_flag baseline_once;
+    std::shared_ptr<const effects::SelectionBaseline> baseline;  // fitted once for all families
     std::map<std::string, std::pair<int, std::string>> chosen;  // name -> form, note
   };
   const ForceModel* model_;

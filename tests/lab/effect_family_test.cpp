@@ -121,6 +121,7 @@ TEST(StressRelaxation, OnTheNeedleDataTheFitLeavesItsStartAndNamesItsForm) {
   EXPECT_EQ(evidence.find("decays by 0 %"), std::string::npos) << evidence;
   EXPECT_EQ(evidence.find("1.00 s"), std::string::npos) << evidence;
   EXPECT_NE(evidence.find("relaxation"), std::string::npos) << evidence;
+  EXPECT_EQ(evidence.find("did not leave its start"), std::string::npos) << evidence;
 }
 
 }  // namespace

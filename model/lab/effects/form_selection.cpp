@@ -89,36 +89,49 @@ int form_parameter_count(const EffectTerm& term, std::size_t runs) {
   return count + term.linear_columns() * (term.per_run_coefficients() ? static_cast<int>(runs) : 1);
 }
 
-FormChoice select_form(const FormSelectionInput& in) {
+std::vector<const PreparedRun*> SelectionBaseline::run_pointers() const {
+  std::vector<const PreparedRun*> out;
+  for (const PreparedRun& r : runs) out.push_back(&r);
+  return out;
+}
+
+SelectionBaseline fit_selection_baseline(const FormSelectionInput& in) {
+  SelectionBaseline b;
+  b.runs = selection_runs(in.runs);
+  const auto runs = b.run_pointers();
+  const Predictor base(*in.model, in.base_terms);
+  b.fit = base.initial_params();
+  for (std::size_t k = 0; k < in.base_params.size() && k < b.fit.shared.size(); ++k) b.fit.shared[k] = in.base_params[k];
+  if (runs.empty()) return b;
+  b.fit = Fitter(base, runs).fit(b.fit, 2 * kMaxEvaluations).params;
+  b.n_effective = sse_and_n_effective(base, runs, b.fit).second;
+  return b;
+}
+
+FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& baseline) {
   FormChoice choice;
   choice.bic.assign(static_cast<std::size_t>(in.forms), std::numeric_limits<double>::infinity());
-  const std::vector<PreparedRun> owned = selection_runs(in.runs);
-  std::vector<const PreparedRun*> runs;
-  for (const PreparedRun& r : owned) runs.push_back(&r);
+  const auto runs = baseline.run_pointers();
   if (runs.empty() || in.forms < 2) return choice;
-  const Predictor base(*in.model, in.base_terms);
-  ModelParams start = base.initial_params();
-  for (std::size_t k = 0; k < in.base_params.size() && k < start.shared.size(); ++k) start.shared[k] = in.base_params[k];
-  const ModelParams base_fit = Fitter(base, runs).fit(start, 2 * kMaxEvaluations).params;
-  const double n_eff = sse_and_n_effective(base, runs, base_fit).second;
+  std::size_t rows = 0;
+  for (const PreparedRun* r : runs) rows += r->fit_rows.size();
+  const double n_eff = baseline.n_effective;
   for (int f = 0; f < in.forms; ++f) {
     const auto term = in.make_form(f);
     std::vector<const EffectTerm*> terms = in.base_terms;
     terms.push_back(term.get());
     const Predictor predictor(*in.model, terms);
     ModelParams p = predictor.initial_params();
-    p.base = base_fit.base;
-    for (std::size_t k = 0; k < base_fit.shared.size(); ++k) p.shared[k] = base_fit.shared[k];
+    p.base = baseline.fit.base;
+    for (std::size_t k = 0; k < baseline.fit.shared.size(); ++k) p.shared[k] = baseline.fit.shared[k];
     pick_start(predictor, runs, *term, p);
+    // The baseline is refitted with the form: held at its own fit, it favours the forms
+    // flexible enough to make up for what it absorbed of the effect.
     const FitResult fit = Fitter(predictor, runs).fit(p, kMaxEvaluations);
     const double sse = sse_and_n_effective(predictor, runs, fit.params).first;
-    const double rows = static_cast<double>(std::max<std::size_t>(1, [&] {
-      std::size_t n = 0;
-      for (const PreparedRun* r : runs) n += r->fit_rows.size();
-      return n;
-    }()));
     if (!std::isfinite(sse)) continue;
-    choice.bic[static_cast<std::size_t>(f)] = n_eff * std::log(std::max(sse / rows, 1e-300)) + form_parameter_count(*term, runs.size()) * std::log(n_eff);
+    const double mean_square = std::max(sse / static_cast<double>(std::max<std::size_t>(rows, 1)), 1e-300);
+    choice.bic[static_cast<std::size_t>(f)] = n_eff * std::log(mean_square) + form_parameter_count(*term, runs.size()) * std::log(n_eff);
   }
   choice.form = static_cast<int>(std::min_element(choice.bic.begin(), choice.bic.end()) - choice.bic.begin());
   choice.note = selection_note(in, choice);

@@ -12,6 +12,7 @@
 
 #include "effect_term.hpp"
 #include "force_model.hpp"
+#include "predictor.hpp"
 
 namespace rig::model::effects {
 
@@ -30,7 +31,17 @@ struct FormSelectionInput {
   std::function<std::unique_ptr<EffectTerm>(int form)> make_form;
 };
 
-FormChoice select_form(const FormSelectionInput& in);
+// The baseline every form is fitted over: the thinned runs and the baseline's own fit on
+// them (shared by all families of a catalogue: fitted once).
+struct SelectionBaseline {
+  std::vector<PreparedRun> runs;
+  ModelParams fit;
+  double n_effective = 2.0;
+  std::vector<const PreparedRun*> run_pointers() const;
+};
+SelectionBaseline fit_selection_baseline(const FormSelectionInput& in);
+
+FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& baseline);
 
 // Parameters a form costs in an information criterion (form labels excluded).
 int form_parameter_count(const EffectTerm& term, std::size_t runs);

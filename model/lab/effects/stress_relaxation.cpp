@@ -119,7 +119,12 @@ std::string StressRelaxation::evidence(const EvidenceInput& in) const {
     default: text = format("stretched-exponential relaxation, %.2f s, stretch exponent %.2f: ", p[1], p[2]); break;
   }
   if (model_silent_) text += "the model predicts no force in some holds, so they relax from the force measured when the hold began: ";
-  return text + format("during holds the force decays by %.0f %% within %.1f s", lost, longest) + honesty(in);
+  text += format("during holds the force decays by %.0f %% within %.1f s", lost, longest);
+  const double slowest = form_ == kProny ? std::max(p[1], p[3]) : (form_ == kPowerLaw ? 0.0 : p[1]);
+  if (longest > 0.0 && slowest > 3.0 * longest) {
+    text += format("; the time constant %.3g s is beyond 3x the longest hold: not resolved, read it as a slow, almost linear decline", slowest);
+  }
+  return text + honesty(in);
 }
 
 }  // namespace rig::model::effects
