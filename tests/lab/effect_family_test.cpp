@@ -124,5 +124,17 @@ TEST(StressRelaxation, OnTheNeedleDataTheFitLeavesItsStartAndNamesItsForm) {
   EXPECT_EQ(evidence.find("did not leave its start"), std::string::npos) << evidence;
 }
 
+TEST(EffectFamilies, OnTheNeedleDataEveryApplicableCandidateNamesTheFormItChose) {
+  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {read_run_csv(needle_csv())});
+  std::size_t applicable = 0;
+  for (const CandidateResult& c : d.candidates) {
+    if (!c.applicable) continue;
+    ++applicable;
+    EXPECT_NE(c.evidence.find("form chosen by BIC"), std::string::npos) << c.effect << ": " << c.evidence;
+  }
+  EXPECT_GE(applicable, 3U);
+  std::printf("needle: verdict %s\n", d.verdict.c_str());
+}
+
 }  // namespace
 }  // namespace rig::model
