@@ -31,22 +31,15 @@ std::vector<PreparedRun> selection_runs(const std::vector<const PreparedRun*>& r
   return out;
 }
 
-double lag1(const std::vector<double>& r) {
-  double num = 0.0, den = 0.0;
-  for (std::size_t i = 0; i < r.size(); ++i) {
-    den += r[i] * r[i];
-    if (i > 0) num += r[i] * r[i - 1];
-  }
-  return den > 0.0 ? std::clamp(num / den, 0.0, 0.99) : 0.0;
-}
-
 // Sum of squares and effective sample count of the residuals at the fit rows.
 std::pair<double, double> sse_and_n_effective(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p) {
   double sse = 0.0, n_eff = 0.0;
   for (const PreparedRun* run : runs) {
-    const std::vector<double> r = Fitter::residuals(predictor, *run, p, run->fit_rows);
-    for (const double e : r) sse += e * e;
-    const double rho = lag1(r);
+    const std::vector<double> residual = Fitter::residuals(predictor, *run, p, run->fit_rows);
+    const Eigen::Map<const Eigen::VectorXd> r(residual.data(), static_cast<Eigen::Index>(residual.size()));
+    sse += r.squaredNorm();
+    // Lag-1 autocorrelation, clamped like the diagnosis does (thinned rows are still correlated).
+    const double rho = r.size() > 1 && r.squaredNorm() > 0.0 ? std::clamp(r.head(r.size() - 1).dot(r.tail(r.size() - 1)) / r.squaredNorm(), 0.0, 0.99) : 0.0;
     n_eff += static_cast<double>(r.size()) * (1.0 - rho) / (1.0 + rho);
   }
   return {sse, std::max(n_eff, 2.0)};
