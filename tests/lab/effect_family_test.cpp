@@ -7,6 +7,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <tuple>
 
 #include "diagnosis.hpp"
 #include "effect_catalogue.hpp"
@@ -83,6 +84,41 @@ INSTANTIATE_TEST_SUITE_P(
       for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
       return name;
     });
+
+// Forms the simulator does not make, injected into clean simulated runs with the law written
+// out here: viscous friction and a two-term relaxation spectrum.
+std::vector<RunData> with_injected(const std::string& law, bool holds) {
+  std::vector<RunData> runs = testing::scenario_runs({}, 7, holds);
+  for (RunData& run : runs) {
+    const PreparedRun p = prepare_run(run);
+    for (std::size_t i = 0; i < run.size(); ++i) {
+      if (law == "viscous") {
+        const double inserted_mm = std::max(0.0, std::min(run.x_mm[i], p.front_mm[i]) - p.seg.x_pi_mm);
+        if (p.seg.punctured) run.force_N[i] += 0.004 * inserted_mm * p.velocity_mm_s[i];  // 4 mN per mm per mm/s
+      } else if (p.hold_s[i] > 0.0) {  // in the hold, and as relaxed as it left the tissue after it
+        const double t = p.hold_s[i];
+        run.force_N[i] *= 1.0 - 0.15 * (1.0 - std::exp(-t / 0.1)) - 0.2 * (1.0 - std::exp(-t / 2.0));
+      }
+    }
+  }
+  return runs;
+}
+
+TEST(EffectFamilies, InjectedViscousFrictionAndATwoTermSpectrumArePickedAndNamed) {
+  for (const auto& [law, effect, form, holds] : std::vector<std::tuple<std::string, std::string, std::string, bool>>{
+           {"viscous", "shaft_friction", "viscous", false}, {"prony", "stress_relaxation", "two-term Prony", true}}) {
+    const auto runs = with_injected(law, holds);
+    DiagnoseOptions only;
+    only.only = {effect};
+    const Diagnosis d = diagnose(ForceModel::paper_interpreted(), runs, only);
+    ASSERT_EQ(d.candidates.size(), 1U);
+    const CandidateResult& c = d.candidates.front();
+    std::printf("injected %s: %.2fx floor; %s\n", law.c_str(), c.cv_rmse_N / d.noise_floor_N, c.evidence.c_str());
+    EXPECT_EQ(chosen_form(runs, effect), form);
+    EXPECT_TRUE(c.significant) << c.evidence;
+    EXPECT_LT(c.cv_rmse_N, 1.3 * d.noise_floor_N);
+  }
+}
 
 TEST(EffectFamilies, ASavedFormReloadsAsTheSameFormFromItsParameterNames) {
   const auto data = testing::scenario_runs({}, 5);

@@ -33,8 +33,11 @@ std::vector<std::vector<double>> StressRelaxation::starts() const {
     }
   }
   if (form_ == kProny) {
-    for (const double fast : {0.1, 0.3, 1.0}) {
-      for (const double slow : {3.0, 10.0, 30.0}) out.push_back({0.15, fast, 0.1, slow}), out.push_back({0.05, fast, 0.2, slow});
+    for (const double fast : {0.03, 0.1, 0.3, 1.0}) {
+      for (const double slow : {1.0, 3.0, 10.0, 30.0}) {
+        if (slow <= fast) continue;
+        for (const auto& [r_fast, r_slow] : {std::pair{0.15, 0.1}, std::pair{0.05, 0.2}, std::pair{0.2, 0.2}}) out.push_back({r_fast, fast, r_slow, slow});
+      }
     }
   }
   if (form_ == kPowerLaw) {
