@@ -1,7 +1,7 @@
 #pragma once
 // Picks the form of an effect family: fits the baseline once, then every form of the family
-// on top of it (the baseline held at its fit, so each form costs a few parameters only), and
-// keeps the form with the lowest BIC. The sample count is the autocorrelation-corrected
+// together with the baseline (started from the baseline's fit), and keeps the form with
+// the lowest BIC. The sample count is the autocorrelation-corrected
 // effective one of the baseline's residuals (the same for every form), the parameter count
 // the form's own: shared parameters + linear columns x runs (per-run columns) or x 1.
 // For speed the fits use at most 8 runs, evenly spread, and 300 rows per run.
