@@ -55,7 +55,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Scenario{"stick_slip:growing", "stick_slip"}, Scenario{"stress_relaxation", "stress_relaxation"},
                       Scenario{"stress_relaxation:power", "stress_relaxation"},
                       Scenario{"covariate:post_mortem_h", "covariate:post_mortem_h"},
-                      Scenario{"covariate:post_mortem_h:linear", "covariate:post_mortem_h"}),
+                      Scenario{"covariate:post_mortem_h:hinge_all", "covariate:post_mortem_h"}),
     [](const ::testing::TestParamInfo<Scenario>& param) {
       std::string name = param.param.hidden;
       for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';

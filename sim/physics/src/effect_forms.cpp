@@ -29,8 +29,8 @@ double rate_factor(const EffectSlot& slot, double v, bool after_puncture) {
       return std::max(0.1, 1.0 + 0.45 * size * (carreau_stress(v) / carreau_stress(kReferenceVelocity_mm_s) - 1.0));
     case 1:  // power law with a cutoff: no rate effect below 1.5 mm/s
       return std::pow(std::max(v, 1.5) / kReferenceVelocity_mm_s, 0.35 * size);
-    case 2:  // logarithmic (Eyring-like) with a 0.3 mm/s knee
-      return std::max(0.1, 1.0 + 0.12 * size * std::log((1.0 + v / 0.3) / (1.0 + kReferenceVelocity_mm_s / 0.3)));
+    case 2:  // logarithmic at speed, linear when slow (Eyring: asinh(v / 1 mm/s))
+      return std::max(0.1, 1.0 + 0.3 * size * (std::asinh(v) / std::asinh(kReferenceVelocity_mm_s) - 1.0));
     default:  // linear
       return std::max(0.1, 1.0 + 0.075 * size * (v - kReferenceVelocity_mm_s));
   }
@@ -80,8 +80,8 @@ double compliance_lag_mm(const EffectSlot& slot, double force_N) {
   switch (slot.form) {
     case 0:  // hardening mount: 1.5/size N/mm at small loads, against a stop at 0.06 size mm
       return 0.06 * size * std::tanh(f / 0.09);
-    case 1:  // softening mount: compliance grows exponentially with load
-      return f / 1.5 * size * std::exp(f / 0.5);
+    case 1:  // softening mount: k = 3 N/mm / (1 + (F / 0.15 N)^2)
+      return f / 3.0 * size * (1.0 + (f / 0.15) * (f / 0.15));
     case 2:  // backlash: a 0.04 mm gap closes at ~10 mN, then a stiff 6 N/mm mount
       return 0.04 * size * std::tanh(f / 0.01) + f / 6.0;
     default:  // stiffening: k = 1.5 (0.6 + F / 0.15 N) N/mm
@@ -116,11 +116,8 @@ CovariateChange covariate_change(const EffectSlot& slot, double value) {
     case 1:  // hinge on every phase: no change below 1.5, then -10 % per unit
       change.precut_factor = change.cutting_factor = std::max(0.1, 1.0 - 0.1 * slot.size * std::max(0.0, value - 1.5));
       break;
-    case 2:  // the puncture moves deeper: softer tissue yields later
+    default:  // the puncture moves deeper: softer tissue yields later
       change.puncture_shift_mm = 0.15 * slot.size * dh;
-      break;
-    default:  // linear on the cutting force
-      change.cutting_factor = std::max(0.1, 1.0 - 0.08 * slot.size * dh);
       break;
   }
   return change;

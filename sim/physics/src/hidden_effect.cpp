@@ -26,7 +26,7 @@ const std::array<EffectInfo, kEffectKindCount>& catalogue() {
       {EffectKind::kMainsInterference, "mains_interference", {"drifting", "harmonics", "motor_gated", "60hz"}},
       {EffectKind::kStickSlip, "stick_slip", {"aperiodic", "growing", "velocity_weakening"}},
       {EffectKind::kStressRelaxation, "stress_relaxation", {"prony2", "prony3", "power"}},
-      {EffectKind::kCovariate, "covariate", {"sigmoid", "hinge_all", "puncture_shift", "linear"}},
+      {EffectKind::kCovariate, "covariate", {"sigmoid", "hinge_all", "puncture_shift"}},
   }};
   return kInfo;
 }
