@@ -10,13 +10,24 @@
 #include "zoo_laws.hpp"
 
 namespace rig::zoo {
+
+using LawFactory = std::function<std::shared_ptr<const sim::ExtraForce>(const sim::RunSpec&, double size)>;
+
+struct Recipe {
+  DrawKind kind = DrawKind::kClean;
+  std::string family = "clean", form = "no effect";
+  std::vector<std::string> expected = {"none"};
+  std::vector<sim::HiddenEffect> effects;  // at size 1
+  LawFactory law;                          // or nullptr
+  double target = 0.0;                     // wanted magnitude [x noise]
+};
+
 namespace {
 
 constexpr double kNoise_N = 0.0015;   // the simulated load cell's white noise (SensorParams)
 constexpr double kMaxSize = 25.0;      // never scale a form beyond this (its law would be absurd)
 const char* const kCovariateKeys[] = {"post_mortem_h", "temperature_C", "blade_uses"};
 
-using LawFactory = std::function<std::shared_ptr<const sim::ExtraForce>(const sim::RunSpec&, double size)>;
 
 double covariate_of(const sim::RunSpec& spec, const std::string& key) {
   if (key == "post_mortem_h") return spec.covariate_value;
@@ -67,15 +78,6 @@ std::string kind_name(DrawKind kind) {
   return "?";
 }
 
-struct ZooGenerator::Recipe {
-  DrawKind kind = DrawKind::kClean;
-  std::string family = "clean", form = "no effect";
-  std::vector<std::string> expected = {"none"};
-  std::vector<sim::HiddenEffect> effects;  // at size 1
-  LawFactory law;                          // or nullptr
-  double target = 0.0;                     // wanted magnitude [x noise]
-};
-
 std::vector<sim::RunSpec> ZooGenerator::run_specs(std::uint64_t seed) const {
   sim::RandomSource rng(seed * 7919 + 17);
   const double iops[3] = {15.0, 16.5, 18.0};
@@ -99,85 +101,104 @@ std::vector<sim::RunSpec> ZooGenerator::run_specs(std::uint64_t seed) const {
   return specs;
 }
 
-ZooGenerator::Recipe ZooGenerator::recipe(std::uint64_t seed) const {
-  sim::RandomSource rng(seed * 104729 + 3);
-  Recipe r;
-  r.target = o_.min_magnitude * std::pow(o_.max_magnitude / o_.min_magnitude, rng.uniform(0.0, 1.0));
-  const double total = o_.clean_share + o_.catalogue_share + o_.zoo_law_share + o_.out_of_catalogue_share + o_.mixture_share;
-  double pick = rng.uniform(0.0, total);
-  auto take = [&pick](double share) { pick -= share; return pick < 0.0; };
-  auto sim_effect = [&rng](int kind) {
-    sim::HiddenEffect e;
-    e.kind = static_cast<sim::EffectKind>(kind);
-    const auto forms = sim::effect_forms(e.kind);
-    e.form = forms[std::min(forms.size() - 1, static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(forms.size()))))];
-    if (e.kind == sim::EffectKind::kCovariate) e.covariate = "post_mortem_h";
-    return e;
-  };
-  auto verdict_of = [](const sim::HiddenEffect& e) {
-    return e.kind == sim::EffectKind::kCovariate ? "covariate:" + e.covariate : sim::effect_name(e.kind);
-  };
-  if (take(o_.clean_share)) return r;
-  if (take(o_.catalogue_share)) {
-    r.kind = DrawKind::kCatalogueForm;
-    r.effects = {sim_effect(static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1e-9)))};
-    r.family = verdict_of(r.effects[0]);
-    r.form = sim::effect_name(r.effects[0].kind) + ":" + r.effects[0].form;
-    r.expected = {r.family};
-    return r;
+namespace {
+
+sim::HiddenEffect draw_sim_effect(sim::RandomSource& rng, int kind) {
+  sim::HiddenEffect e;
+  e.kind = static_cast<sim::EffectKind>(kind);
+  const auto forms = sim::effect_forms(e.kind);
+  e.form = forms[std::min(forms.size() - 1, static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(forms.size()))))];
+  if (e.kind == sim::EffectKind::kCovariate) e.covariate = "post_mortem_h";
+  return e;
+}
+
+std::string verdict_of(const sim::HiddenEffect& e) {
+  return e.kind == sim::EffectKind::kCovariate ? "covariate:" + e.covariate : sim::effect_name(e.kind);
+}
+
+int draw_family(sim::RandomSource& rng) { return static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1e-9)); }
+
+void catalogue_form(Recipe& r, sim::RandomSource& rng) {
+  r.kind = DrawKind::kCatalogueForm;
+  r.effects = {draw_sim_effect(rng, draw_family(rng))};
+  r.family = verdict_of(r.effects[0]);
+  r.form = sim::effect_name(r.effects[0].kind) + ":" + r.effects[0].form;
+  r.expected = {r.family};
+}
+
+void zoo_law(Recipe& r, sim::RandomSource& rng, int runs) {
+  r.kind = DrawKind::kZooLaw;
+  if (rng.uniform(0.0, 1.0) < 0.5) {
+    const VelocityLaw law = VelocityLaw::draw(rng);
+    const Window window = draw_window(rng, {Window::kAllInsert, Window::kCutInsert});
+    r.family = "rate_dependence";
+    r.form = "random law in velocity, " + window_name(window);
+    r.law = [law, window](const sim::RunSpec&, double size) { return std::make_shared<VelocityScaledLaw>(law, window, 0.1 * size); };
+  } else {
+    const std::string key = kCovariateKeys[std::min(2, static_cast<int>(rng.uniform(0.0, 3.0)))];
+    std::string words;
+    const auto link = draw_link(rng, words);
+    const Window window = draw_window(rng, {Window::kAll, Window::kCutInsert, Window::kPrecutInsert});
+    const auto [centre, half] = covariate_scale(key, runs);
+    r.family = "covariate:" + key;
+    r.form = words + " of " + key + ", " + window_name(window);
+    r.law = [=](const sim::RunSpec& spec, double size) {
+      const double z = std::clamp((covariate_of(spec, key) - centre) / half, -1.5, 1.5);
+      return std::make_shared<RunFactorLaw>(std::max(-0.9, 0.1 * size * link(z)), window);
+    };
   }
-  if (take(o_.zoo_law_share)) {
-    r.kind = DrawKind::kZooLaw;
-    if (rng.uniform(0.0, 1.0) < 0.5) {
-      const VelocityLaw law = VelocityLaw::draw(rng);
-      const Window window = draw_window(rng, {Window::kAllInsert, Window::kCutInsert});
-      r.family = "rate_dependence";
-      r.form = "random law in velocity, " + window_name(window);
-      r.law = [law, window](const sim::RunSpec&, double size) { return std::make_shared<VelocityScaledLaw>(law, window, 0.1 * size); };
-    } else {
-      const std::string key = kCovariateKeys[std::min(2, static_cast<int>(rng.uniform(0.0, 3.0)))];
-      std::string words;
-      const auto link = draw_link(rng, words);
-      const Window window = draw_window(rng, {Window::kAll, Window::kCutInsert, Window::kPrecutInsert});
-      const auto [centre, half] = covariate_scale(key, o_.runs);
-      r.family = "covariate:" + key;
-      r.form = words + " of " + key + ", " + window_name(window);
-      r.law = [=](const sim::RunSpec& spec, double size) {
-        const double z = std::clamp((covariate_of(spec, key) - centre) / half, -1.5, 1.5);
-        return std::make_shared<RunFactorLaw>(std::max(-0.9, 0.1 * size * link(z)), window);
-      };
-    }
-    r.expected = {r.family};
-    return r;
+  r.expected = {r.family};
+}
+
+void out_of_catalogue(Recipe& r, sim::RandomSource& rng) {
+  r.kind = DrawKind::kOutOfCatalogue;
+  r.family = "out_of_catalogue";
+  r.expected = {"unexplained"};
+  if (rng.uniform(0.0, 1.0) < 0.25) {
+    const double period = rng.uniform(0.4, 1.5), decay = rng.uniform(0.5, 2.0);
+    r.form = "damped ringing in every hold";
+    r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<HoldRingingLaw>(0.003 * size, period, decay); };
+    return;
   }
-  if (take(o_.out_of_catalogue_share)) {
-    r.kind = DrawKind::kOutOfCatalogue;
-    r.family = "out_of_catalogue";
-    r.expected = {"unexplained"};
-    if (rng.uniform(0.0, 1.0) < 0.25) {
-      const double period = rng.uniform(0.4, 1.5), decay = rng.uniform(0.5, 2.0);
-      r.form = "damped ringing in every hold";
-      r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<HoldRingingLaw>(0.003 * size, period, decay); };
-      return r;
-    }
-    const Window window = draw_window(rng, {Window::kPrecutInsert, Window::kCutInsert, Window::kRetraction});
-    const BumpSum bumps = window == Window::kCutInsert  ? BumpSum::draw(rng, 0.3, 6.0)
-                          : window == Window::kPrecutInsert ? BumpSum::draw(rng, 0.3, 3.3)
+  const Window window = draw_window(rng, {Window::kPrecutInsert, Window::kCutInsert, Window::kRetraction});
+  const BumpSum bumps = window == Window::kCutInsert      ? BumpSum::draw(rng, 0.3, 6.0)
+                        : window == Window::kPrecutInsert ? BumpSum::draw(rng, 0.3, 3.3)
                                                           : BumpSum::draw(rng, 1.0, 11.0);
-    r.form = "random bumps in depth, " + window_name(window);
-    r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<DepthBumpsLaw>(bumps, window, 0.003 * size); };
-    return r;
-  }
+  r.form = "random bumps in depth, " + window_name(window);
+  r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<DepthBumpsLaw>(bumps, window, 0.003 * size); };
+}
+
+void mixture(Recipe& r, sim::RandomSource& rng) {
   r.kind = DrawKind::kMixture;
-  const int first = static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1e-9));
+  const int first = draw_family(rng);
   int second = static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1 - 1e-9));
   if (second >= first) ++second;
-  r.effects = {sim_effect(first), sim_effect(second)};
+  r.effects = {draw_sim_effect(rng, first), draw_sim_effect(rng, second)};
   r.expected = {verdict_of(r.effects[0]), verdict_of(r.effects[1])};
   r.family = r.expected[0] + "+" + r.expected[1];
   r.form = sim::effect_name(r.effects[0].kind) + ":" + r.effects[0].form + " + " + sim::effect_name(r.effects[1].kind) + ":" +
            r.effects[1].form;
   r.target = std::max(r.target, 3.0);  // both must be findable
+}
+
+}  // namespace
+
+Recipe ZooGenerator::recipe(std::uint64_t seed) const {
+  sim::RandomSource rng(seed * 104729 + 3);
+  Recipe r;
+  r.target = o_.min_magnitude * std::pow(o_.max_magnitude / o_.min_magnitude, rng.uniform(0.0, 1.0));
+  const double total = o_.clean_share + o_.catalogue_share + o_.zoo_law_share + o_.out_of_catalogue_share + o_.mixture_share;
+  double pick = rng.uniform(0.0, total);
+  if ((pick -= o_.clean_share) < 0.0) return r;
+  if ((pick -= o_.catalogue_share) < 0.0) {
+    catalogue_form(r, rng);
+  } else if ((pick -= o_.zoo_law_share) < 0.0) {
+    zoo_law(r, rng, o_.runs);
+  } else if ((pick -= o_.out_of_catalogue_share) < 0.0) {
+    out_of_catalogue(r, rng);
+  } else {
+    mixture(r, rng);
+  }
   return r;
 }
 

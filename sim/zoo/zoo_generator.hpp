@@ -12,6 +12,8 @@
 
 namespace rig::zoo {
 
+struct Recipe;  // what a draw hides (zoo_generator.cpp)
+
 struct ZooOptions {
   int runs = 9;                   // runs per draw (3 IOP x 3 velocity levels, jittered)
   double min_magnitude = 1.0;     // x noise floor, drawn log-uniformly
@@ -29,7 +31,6 @@ class ZooGenerator {
   std::vector<sim::RunSpec> run_specs(std::uint64_t seed) const;
 
  private:
-  struct Recipe;
   Recipe recipe(std::uint64_t seed) const;
   double pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size) const;
   std::vector<model::RunData> simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,

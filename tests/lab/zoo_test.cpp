@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -206,11 +207,12 @@ TEST(BlindZoo, DrawsAreLabelledCalibratedAndScored) {
   ScoreOptions options;
   options.first_seed = 770001;
   options.draws = 3;
-  options.verbose = true;
   ZooScore score;
   bool calibration_checked = false;
   for (int k = 0; k < options.draws; ++k) {
+    const auto start = std::chrono::steady_clock::now();
     const ZooDraw draw = generator.draw(options.first_seed + static_cast<std::uint64_t>(k));
+    const double generate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ASSERT_EQ(draw.runs.size(), 9U);
     for (const auto& expected : draw.expected) EXPECT_TRUE(legal_verdict(expected)) << expected;
     sim::expect_stops_before_and_after_the_puncture(draw.runs.front());
@@ -225,6 +227,9 @@ TEST(BlindZoo, DrawsAreLabelledCalibratedAndScored) {
       calibration_checked = true;
     }
     DrawScore s = score_draw(draw, 2);
+    s.generate_s = generate_s;
+    std::printf("draw %llu %s (%s, %.1fx): expected %s, verdict %s\n", static_cast<unsigned long long>(s.seed), s.family.c_str(),
+                s.form.c_str(), s.magnitude, s.expected.front().c_str(), s.verdict.c_str());
     EXPECT_TRUE(legal_verdict(s.verdict)) << s.verdict;
     score.draws.push_back(s);
   }
