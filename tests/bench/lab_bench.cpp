@@ -67,6 +67,7 @@ void diagnose_timing(int runs, int threads, const std::string& effect, int repea
 }  // namespace
 
 int main(int argc, char** argv) {
+  std::setvbuf(stdout, nullptr, _IOLBF, 0);  // figures appear as they come, also into a file
   CLI::App app{"bench-lab: the model lab's blind-zoo rates and diagnose time"};
   rig::zoo::ScoreOptions zoo;
   bool no_zoo = false;
