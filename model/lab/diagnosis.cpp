@@ -6,6 +6,7 @@
 #include <future>
 #include <set>
 
+#include "data_checks.hpp"
 #include "model_family.hpp"
 
 namespace rig::model {
@@ -53,7 +54,7 @@ CandidateResult evaluate(const std::string& name, const ForceModel& model, const
                          const DiagnoseOptions& o, const std::vector<const PreparedRun*>& runs, const CvResult& base) {
   CandidateResult c;
   c.effect = name;
-  if (!catalogue.make(name)->applicable(runs, c.not_applicable)) {
+  if (!catalogue.make(name)->applicable(runs, c.not_applicable) || !sampling_allows(name, runs, c.not_applicable)) {
     c.applicable = false;
     return c;
   }
@@ -101,6 +102,7 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
     d.warnings.insert(d.warnings.end(), p.warnings.begin(), p.warnings.end());
   }
   if (runs.empty()) throw std::invalid_argument("diagnose: no runs");
+  append_sampling_warnings(runs, d.warnings);
   const EffectCatalogue catalogue(model, runs);
   const ModelFamily base_family(model, catalogue, o.with);
   d.base_effects = base_family.effect_names();

@@ -79,6 +79,7 @@ EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<cons
 std::vector<std::string> EffectCatalogue::candidates() const {
   std::vector<std::string> out = builtin_names();
   for (const auto& key : covariates_) out.push_back("covariate:" + key);
+  for (const UserTerm& term : model_->candidate_terms) out.push_back("user:" + term.name);
   return out;
 }
 
@@ -101,13 +102,16 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make(const std::string& name) const
     return std::make_unique<CovariateScaling>(key, mean, spread > 0.0 ? spread : 1.0);
   }
   if (name.rfind("user:", 0) == 0) {
-    for (const UserTerm& term : model_->user_terms) {
-      if ("user:" + term.name == name) return std::make_unique<UserExpression>(term);
+    for (const auto* terms : {&model_->user_terms, &model_->candidate_terms}) {
+      for (const UserTerm& term : *terms) {
+        if ("user:" + term.name == name) return std::make_unique<UserExpression>(term);
+      }
     }
   }
   std::string known;
   for (const auto& n : candidates()) known += (known.empty() ? "" : ", ") + n;
   for (const UserTerm& term : model_->user_terms) known += ", user:" + term.name;
+  if (name.rfind("user:", 0) == 0) known += "; user terms come from the model file's [terms] or --terms FILE";
   throw std::invalid_argument("unknown effect '" + name + "' (known: " + known + ")");
 }
 

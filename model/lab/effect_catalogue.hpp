@@ -17,7 +17,8 @@ class EffectCatalogue {
 
   // Throws std::invalid_argument naming the unknown effect and listing the known ones.
   std::unique_ptr<EffectTerm> make(const std::string& name) const;
-  // Every candidate for these runs: the built-in catalogue, covariate:KEY, user:NAME.
+  // Every candidate for these runs: the built-in catalogue, covariate:KEY, and user:NAME for
+  // the model's candidate terms (its own user terms are always in the model).
   std::vector<std::string> candidates() const;
   static const std::vector<std::string>& builtin_names();
 

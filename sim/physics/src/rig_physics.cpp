@@ -70,7 +70,7 @@ void RigPhysics::step_once() {
   input.dt_s = dt;
   input.run_time_s = time_s_ - eye_mounted_s_;
   tissue_.update(input, rng_);
-  iop_.step(dt, drive_.pump_command, tissue_.punctured());
+  iop_.step(dt, drive_.pump_command, tissue_.punctured(), faults_.iop_leak_fraction);
   time_s_ += dt;
   maybe_swap_eye();
 
