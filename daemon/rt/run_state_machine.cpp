@@ -141,7 +141,8 @@ CommandResult RunStateMachine::check_arm(const RunParams& p, const CycleInput& i
   const bool valid = p.iop_mmHg >= s_.iop.min_mmHg && p.iop_mmHg <= s_.iop.max_mmHg &&
                      p.velocity_mm_s >= m.min_velocity_mm_s && p.velocity_mm_s <= m.max_velocity_mm_s &&
                      p.depth_mm > 0.0 && p.depth_mm <= m.max_depth_mm &&
-                     m.surface_mm + p.depth_mm < m.soft_max_mm && p.hold_s >= 0.0 && p.hold_s <= 600.0;
+                     m.surface_mm + p.depth_mm < m.soft_max_mm && p.hold_s >= 0.0 && p.hold_s <= 600.0 &&
+                     p.pause_s[0] >= 0.0 && p.pause_s[0] <= 600.0 && p.pause_s[1] >= 0.0 && p.pause_s[1] <= 600.0;
   if (!valid) return CommandResult::kInvalidParameters;
   if (std::abs(in.position_mm - m.park_mm) > m.park_tolerance_mm) return CommandResult::kNotAtPark;
   return CommandResult::kAccepted;
@@ -248,6 +249,8 @@ MotionRequest RunStateMachine::step_armed(const CycleInput& in) noexcept {
   if (iop_.settled() && start_requested_) {
     run_open_ = true;
     hold_elapsed_s_ = 0.0;
+    pauses_done_ = 0;
+    pause_elapsed_s_ = 0.0;
     phase_ = CutPhase::kApproach;
     enter(RunState::kCutting, in);
     emit(EventKind::kRunStarted, in, params_.velocity_mm_s);
@@ -278,6 +281,14 @@ MotionRequest RunStateMachine::step_cutting(const CycleInput& in) noexcept {
       return move_to(m.park_mm, m.retract_velocity_mm_s);
     }
     return hold();
+  }
+  // A stop on the way in: hold where the pause depth was reached, then go on cutting.
+  while (pauses_done_ < 2 && params_.pause_s[pauses_done_] <= 0.0) ++pauses_done_;
+  if (pauses_done_ < 2 && in.position_mm >= m.surface_mm + params_.pause_depth_mm[pauses_done_]) {
+    pause_elapsed_s_ += in.dt_s;
+    if (pause_elapsed_s_ < params_.pause_s[pauses_done_]) return hold();
+    ++pauses_done_;
+    pause_elapsed_s_ = 0.0;
   }
   return velocity(params_.velocity_mm_s);
 }

@@ -47,6 +47,11 @@ struct RunParams {
   double velocity_mm_s = 2.0;     // constant cutting velocity
   double depth_mm = 14.0;         // insertion depth from the corneal surface
   double hold_s = 0.0;            // hold at depth before retracting
+  // Up to two stops on the way in (e.g. one before and one after the puncture), at depths
+  // from the surface [mm] in increasing order, each held for pause_s[k] seconds; 0 s = none.
+  // Used by the simulated protocols of the model lab (relaxation must be visible everywhere).
+  double pause_depth_mm[2] = {0.0, 0.0};
+  double pause_s[2] = {0.0, 0.0};
   bool start_when_settled = true; // start cutting as soon as the IOP settles
   std::int64_t run_id = 0;        // archive id assigned before arming
 };

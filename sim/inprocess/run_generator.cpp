@@ -20,6 +20,7 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   PhysicsParams physics = options.physics;
   physics.seed = spec.seed;
   SimulatedRig rig(physics, options.effects);
+  if (options.extra_force) rig.physics().set_extra_force(options.extra_force(spec));
   rig.physics().set_next_eye_covariate(spec.covariate_value);
   rig.physics().mount_new_eye(spec.covariate_value);
   rt::RunParams params;
@@ -27,6 +28,10 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   params.velocity_mm_s = spec.velocity_mm_s;
   params.depth_mm = spec.depth_mm;
   params.hold_s = spec.hold_s;
+  for (int k = 0; k < 2; ++k) {
+    params.pause_depth_mm[k] = spec.pause_depth_mm[k];
+    params.pause_s[k] = spec.pause_s[k];
+  }
   const RecordedRun run = rig.record_run(params);
   if (run.final_status.state != rt::RunState::kDone) throw std::runtime_error("simulated run ended in " + std::string(rt::to_string(run.final_status.state)));
   model::RunData data;
@@ -34,6 +39,7 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   data.meta = {{"eye_id", spec.eye_id}, {"iop_mmHg", number(spec.iop_mmHg)}, {"velocity_mm_s", number(spec.velocity_mm_s)},
                {"depth_mm", number(spec.depth_mm)}, {"hold_s", number(spec.hold_s)},
                {options.covariate_key, number(spec.covariate_value)}};
+  for (const auto& [key, value] : spec.extra_meta) data.meta.emplace_back(key, number(value));
   model::Channel iop{"iop_meas_mmHg", {}};
   model::Channel motor{"motor_cmd_V", {}};
   const double t0 = run.samples.front().t_s;
@@ -47,6 +53,15 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   }
   data.channels = {std::move(iop), std::move(motor)};
   return data;
+}
+
+void apply_standard_protocol(RunSpec& spec) {
+  spec.depth_mm = 12.0;
+  spec.hold_s = 1.0;
+  spec.pause_depth_mm[0] = 2.0;
+  spec.pause_s[0] = 1.5;
+  spec.pause_depth_mm[1] = 5.5;
+  spec.pause_s[1] = 2.0;
 }
 
 std::vector<RunSpec> design_runs(const std::vector<double>& iops, const std::vector<double>& velocities,

@@ -41,7 +41,7 @@ int main(int argc, char** argv) {
   app.add_option("--effect", effect_specs, "hide an effect: name[:form][=size] or covariate:KEY[:form][=size]");
   app.add_option("--covariate-value", covariate, "value of the hidden covariate for the mounted eyes");
   app.add_option("--surface-mm", physics.tissue.surface_mm, "carriage position of the corneal surface [mm]");
-  app.add_option("--eye-variability", physics.tissue.eye_variability, "relative sigma of per-eye stiffness");
+  app.add_option("--eye-variability", physics.tissue.eye_variability, "spread of the eyes: 1 = default (docs/sim.md), 0 = identical eyes");
   app.add_option("--force-noise-N", physics.sensors.force_noise_N, "load-cell noise, 1 sigma [N]");
   app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
   app.add_option("--cpu-wake-latency-us", cpu_wake_latency_us,

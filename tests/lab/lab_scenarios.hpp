@@ -8,22 +8,25 @@
 
 namespace rig::testing {
 
-// 9 runs: IOP 15/16.5/18 mmHg x 1.5/2.5/3.5 mm/s, post-mortem 0.5..3.5 h; 12 mm deep (past
-// x_pf), or 6 mm with a 3 s hold when the effect needs holds.
+// 9 runs: IOP 15/16.5/18 mmHg x 1.5/2.5/3.5 mm/s, post-mortem 0.5..3.5 h, eyes varying;
+// every run, whatever the hidden effect, uses the one protocol of apply_standard_protocol
+// (12 mm deep, stops before and after the puncture, a hold at depth), so that no protocol
+// gives the answer away. `holds` is kept for old callers: every run has its holds now.
 inline std::vector<model::RunData> scenario_runs(const std::vector<std::string>& hidden, std::uint64_t seed = 3,
-                                                 bool holds = false) {
+                                                 bool /*holds*/ = true) {
   sim::GeneratorOptions g;
   for (const auto& spec : hidden) {
     std::string error;
     const auto effect = sim::parse_hidden_effect(spec, error);
     if (!effect) throw std::invalid_argument(error);
     g.effects.push_back(*effect);
-    holds = holds || effect->kind == sim::EffectKind::kStressRelaxation;
   }
   std::vector<model::RunData> runs;
   for (const auto& spec : sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5}, {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2},
-                                           holds ? 6.0 : 12.0, holds ? 3.0 : 0.0, seed)) {
-    runs.push_back(sim::generate_run(g, spec));
+                                           12.0, 1.0, seed)) {
+    sim::RunSpec standard = spec;
+    sim::apply_standard_protocol(standard);
+    runs.push_back(sim::generate_run(g, standard));
   }
   return runs;
 }

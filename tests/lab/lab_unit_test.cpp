@@ -20,8 +20,11 @@
 namespace rig::model {
 namespace {
 
+// One cut of the nominal eye: these tests compare with Table 1's x_pi and x_pf, so the
+// eye-to-eye variation the simulator has by default (docs/sim.md) is switched off here.
 RunData one_run(const std::vector<std::string>& hidden, double hold_s = 0.0, double depth = 12.0) {
   sim::GeneratorOptions g;
+  g.physics.tissue.eye_variability = 0.0;
   for (const auto& spec : hidden) {
     std::string error;
     g.effects.push_back(*sim::parse_hidden_effect(spec, error));
@@ -109,7 +112,12 @@ TEST(SavedModels, CarryTheirEffectsToTheComparison) {
   f.fitted.save(dir.file("fitted.toml"));
   const ForceModel back = ForceModel::load(dir.file("fitted.toml"));
   ASSERT_EQ(back.effects.size(), 1U);
-  EXPECT_NEAR(back.effects[0].params.at("mu"), 0.006, 0.0005);
+  // The saved value is the fitted one. The simulator's friction is Coulomb + viscous (0.007 N/mm
+  // inserting at 2 mm/s, 0.010 retracting at 4 mm/s, docs/sim.md), which the lab's
+  // speed-free term can only average: the value lies in that band, not at one number.
+  EXPECT_NEAR(back.effects[0].params.at("mu"), f.params.at("shaft_friction").at("mu"), 1e-7);
+  EXPECT_GT(back.effects[0].params.at("mu"), 0.004);
+  EXPECT_LT(back.effects[0].params.at("mu"), 0.015);
   const Comparison plain = compare(ForceModel::paper_interpreted(), runs);
   const Comparison fitted = compare(back, runs);
   EXPECT_LT(fitted.overall.rmse_N, 0.2 * plain.overall.rmse_N);

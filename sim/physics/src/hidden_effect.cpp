@@ -17,16 +17,16 @@ struct EffectInfo {
 
 const std::array<EffectInfo, kEffectKindCount>& catalogue() {
   static const std::array<EffectInfo, kEffectKindCount> kInfo{{
-      {EffectKind::kRateDependence, "rate_dependence", {"power", "linear"}},
-      {EffectKind::kIopStiffness, "iop_stiffness", {"exponential", "linear"}},
-      {EffectKind::kShaftFriction, "shaft_friction", {"linear", "saturating"}},
-      {EffectKind::kRigCompliance, "rig_compliance", {"linear", "stiffening"}},
-      {EffectKind::kSensorDrift, "sensor_drift", {"linear", "warmup"}},
-      {EffectKind::kSpatialRipple, "spatial_ripple", {"sine", "sawtooth"}},
-      {EffectKind::kMainsInterference, "mains_interference", {"sine", "harmonics", "60hz"}},
-      {EffectKind::kStickSlip, "stick_slip", {"sawtooth", "sine"}},
-      {EffectKind::kStressRelaxation, "stress_relaxation", {"exponential", "power"}},
-      {EffectKind::kCovariate, "covariate", {"exponential", "linear"}},
+      {EffectKind::kRateDependence, "rate_dependence", {"carreau", "power_cutoff", "logarithmic", "linear"}},
+      {EffectKind::kIopStiffness, "iop_stiffness", {"saturating", "prestress", "linear"}},
+      {EffectKind::kShaftFriction, "shaft_friction", {"coulomb_viscous", "stribeck", "dahl"}},
+      {EffectKind::kRigCompliance, "rig_compliance", {"hardening", "softening", "backlash", "stiffening"}},
+      {EffectKind::kSensorDrift, "sensor_drift", {"thermal", "random_walk", "step", "warmup"}},
+      {EffectKind::kSpatialRipple, "spatial_ripple", {"lead_error", "load_modulated", "sawtooth"}},
+      {EffectKind::kMainsInterference, "mains_interference", {"drifting", "harmonics", "motor_gated", "60hz"}},
+      {EffectKind::kStickSlip, "stick_slip", {"aperiodic", "growing", "velocity_weakening"}},
+      {EffectKind::kStressRelaxation, "stress_relaxation", {"prony2", "prony3", "power"}},
+      {EffectKind::kCovariate, "covariate", {"sigmoid", "hinge_all", "puncture_shift"}},
   }};
   return kInfo;
 }
@@ -95,10 +95,13 @@ ActiveEffects::ActiveEffects(const std::vector<HiddenEffect>& effects) {
 }
 
 void ActiveEffects::new_run(RandomSource& rng) {
+  // The same number of draws whatever is switched on, so the noise does not depend on it.
   for (auto& slot : slots_) {
     slot.phase_rad = rng.uniform(0.0, 6.283185307179586);
     slot.run_factor = rng.sign() * rng.uniform(0.5, 1.5);
+    for (double& value : slot.run_values) value = rng.uniform(0.0, 1.0);
   }
+  effect_rng_.reseed(static_cast<std::uint64_t>(rng.uniform(0.0, 9.0e15)));
 }
 
 }  // namespace rig::sim

@@ -14,13 +14,14 @@ RigPhysics::RigPhysics(const PhysicsParams& params, const std::vector<HiddenEffe
       sensors_(params.sensors, effects_, params.motor.screw_pitch_mm) {
   motor_.set_position_mm(params.tissue.surface_mm - 8.0);
   mount_new_eye(next_covariate_);
-  frame_ = sensors_.convert(TrueSignals{0.0, motor_.position_mm(), iop_.pressure_mmHg(), 0.0, 0.0}, rng_);
+  frame_ = sensors_.convert(TrueSignals{0.0, motor_.position_mm(), iop_.pressure_mmHg(), 0.0, 0.0, 0.0}, rng_);
 }
 
 void RigPhysics::mount_new_eye(double covariate_value) {
   effects_.set_covariate_value(covariate_value);
   effects_.new_run(rng_);
   tissue_.new_eye(rng_);
+  sensors_.new_eye();
   eye_mounted_s_ = time_s_;
   outside_idle_s_ = 0.0;
 }
@@ -67,13 +68,15 @@ void RigPhysics::step_once() {
   input.velocity_mm_s = motor_.velocity_mm_s();
   input.iop_mmHg = iop_.pressure_mmHg();
   input.dt_s = dt;
+  input.run_time_s = time_s_ - eye_mounted_s_;
   tissue_.update(input, rng_);
   iop_.step(dt, drive_.pump_command, tissue_.punctured(), faults_.iop_leak_fraction);
   time_s_ += dt;
   maybe_swap_eye();
 
   TrueSignals truth{tissue_.force_N() + faults_.extra_force_N, motor_.position_mm(),
-                    iop_.pressure_mmHg(), time_s_, time_s_ - eye_mounted_s_};
+                    iop_.pressure_mmHg(), time_s_, time_s_ - eye_mounted_s_, motor_.velocity_mm_s()};
+  sensors_.advance(dt);
   const drivers::AnalogFrame fresh = sensors_.convert(truth, rng_);
   const double stuck_force_V = frame_.force_volts;
   frame_ = fresh;

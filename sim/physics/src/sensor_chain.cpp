@@ -1,46 +1,26 @@
 #include "rig/sim/sensor_chain.hpp"
 
 #include <cmath>
-#include <numbers>
+
+#include "rig/sim/effect_forms.hpp"
 
 namespace rig::sim {
-namespace {
-
-constexpr double kDriftRate_N_per_s = 0.002;    // linear drift at size 1 (x per-run factor)
-constexpr double kDriftWarmup_N = 0.012;        // warm-up step at size 1
-constexpr double kDriftWarmupTau_s = 4.0;
-constexpr double kRippleAmplitude_N = 0.004;
-constexpr double kMainsAmplitude_N = 0.004;
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
-
-double sawtooth(double cycles) { return 2.0 * (cycles - std::floor(cycles)) - 1.0; }
-
-}  // namespace
-
 double SensorChain::instrument_force_N(const TrueSignals& truth) const {
   double force = truth.force_N;
   const EffectSlot& drift = (*effects_)[EffectKind::kSensorDrift];
-  if (drift.on) {
-    force += drift.form == 0
-                 ? kDriftRate_N_per_s * drift.size * drift.run_factor * truth.run_time_s
-                 : kDriftWarmup_N * drift.size * drift.run_factor *
-                       (1.0 - std::exp(-truth.run_time_s / kDriftWarmupTau_s));
-  }
+  if (drift.on) force += forms::drift_N(drift, truth.run_time_s, random_walk_N_);
   const EffectSlot& ripple = (*effects_)[EffectKind::kSpatialRipple];
-  if (ripple.on) {
-    const double cycles = truth.carriage_mm / screw_pitch_mm_ + ripple.phase_rad / kTwoPi;
-    force += kRippleAmplitude_N * ripple.size *
-             (ripple.form == 0 ? std::sin(kTwoPi * cycles) : sawtooth(cycles));
-  }
+  if (ripple.on) force += forms::ripple_N(ripple, truth.carriage_mm, screw_pitch_mm_, truth.force_N);
   const EffectSlot& mains = (*effects_)[EffectKind::kMainsInterference];
-  if (mains.on) {
-    const double hz = mains.form == 2 ? 60.0 : 50.0;
-    const double phase = kTwoPi * hz * truth.time_s + mains.phase_rad;
-    double wave = std::sin(phase);
-    if (mains.form == 1) wave = 0.75 * wave + 0.4 * std::sin(3.0 * phase + 1.0);
-    force += kMainsAmplitude_N * mains.size * wave;
-  }
+  if (mains.on) force += forms::mains_N(mains, truth.time_s, truth.carriage_velocity_mm_s);
   return force;
+}
+
+void SensorChain::advance(double dt_s) {
+  const EffectSlot& drift = (*effects_)[EffectKind::kSensorDrift];
+  if (!drift.on || drift.form != 1) return;
+  // Brownian offset: 1.5 mN/sqrt(s) at size 1.
+  random_walk_N_ += effects_->effect_rng().gaussian(0.0015 * drift.size * std::sqrt(dt_s));
 }
 
 double SensorChain::quantise(double volts) const {

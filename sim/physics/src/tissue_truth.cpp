@@ -2,30 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
+
+#include "rig/sim/effect_forms.hpp"
 
 namespace rig::sim {
 namespace {
 
-// Nominal magnitudes of the hidden effects at size 1 (see docs/sim.md).
-constexpr double kRatePower = 0.3;              // F ~ (v / 2 mm/s)^0.3
-constexpr double kRateLinearPerMmS = 0.075;     // F ~ 1 + 0.075 (v - 2)
 constexpr double kReferenceVelocity_mm_s = 2.0;
-constexpr double kIopStiffnessPerMmHg = 0.08;   // pre-cut stiffness per mmHg above 15
-constexpr double kReferenceIop_mmHg = 15.0;
-constexpr double kFriction_N_per_mm = 0.006;    // along the inserted blade
-constexpr double kFrictionSaturation_mm = 3.0;
-constexpr double kFrictionSpeed_mm_s = 0.05;    // smoothing of the friction sign
-constexpr double kComplianceStiffness_N_per_mm = 1.5;
-constexpr double kComplianceStiffening_N = 0.15;
-constexpr double kStickSlipAmplitude_N = 0.006;
-constexpr double kStickSlipPeriod_mm = 0.35;
-constexpr double kRelaxFraction = 0.35;
-constexpr double kRelaxTau_s = 0.8;
-constexpr double kRelaxPowerTau_s = 0.3;
-constexpr double kRelaxPower = 0.15;
-constexpr double kCovariatePerUnit = 0.08;      // cutting force change per covariate unit
-constexpr double kCovariateReference = 2.0;
+constexpr double kRelaxRecovery_mm = 0.15;   // advancing this far replaces relaxed tissue by fresh
+constexpr double kTearSpacing_mm = 0.35;     // mean spacing of aperiodic tears
 
 double interpolate(const double* xs, const double* ys, int n, double x) {
   if (x <= xs[0]) return ys[0];
@@ -33,11 +18,6 @@ double interpolate(const double* xs, const double* ys, int n, double x) {
     if (x <= xs[i]) return ys[i - 1] + (ys[i] - ys[i - 1]) * (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
   }
   return ys[n - 1];
-}
-
-double periodic(bool sawtooth, double cycles) {
-  if (sawtooth) return 2.0 * (cycles - std::floor(cycles)) - 1.0;
-  return std::sin(2.0 * std::numbers::pi * cycles);
 }
 
 }  // namespace
@@ -50,12 +30,20 @@ void TissueTruth::new_eye(RandomSource& rng) {
   advance_velocity_mm_s_ = kReferenceVelocity_mm_s;
   hold_s_ = 0.0;
   tear_N_ = 0.0;
-  eye_stiffness_ = 1.0 + rng.gaussian(p_.eye_variability);
-  eye_xpi_shift_mm_ = rng.gaussian(p_.eye_variability * 2.0);
+  relaxed_ = relaxed_at_hold_start_ = 0.0;
+  dahl_N_per_mm_ = 0.0;
+  // Always three draws, so the noise stream does not depend on eye_variability.
+  const double spread = p_.eye_variability;
+  eye_stiffness_ = std::max(0.3, 1.0 + rng.gaussian(p_.eye_stiffness_sigma * spread));
+  eye_xpi_shift_mm_ = rng.gaussian(p_.eye_puncture_sigma_mm * spread);
+  eye_cutting_ = std::max(0.3, 1.0 + rng.gaussian(p_.eye_cutting_sigma * spread));
 }
 
 double TissueTruth::puncture_depth_mm(double iop_mmHg) const {
-  return interpolate(p_.table_iop_mmHg, p_.table_xpi_mm, 4, iop_mmHg) + eye_xpi_shift_mm_;
+  double shift = eye_xpi_shift_mm_;
+  const EffectSlot& cov = (*effects_)[EffectKind::kCovariate];
+  if (cov.on) shift += forms::covariate_change(cov, effects_->covariate_value()).puncture_shift_mm;
+  return interpolate(p_.table_iop_mmHg, p_.table_xpi_mm, 4, iop_mmHg) + shift;
 }
 
 double TissueTruth::final_depth_mm(double iop_mmHg) const {
@@ -65,77 +53,66 @@ double TissueTruth::final_depth_mm(double iop_mmHg) const {
 double TissueTruth::elastic_force(double tip_mm, double iop_mmHg) const {
   if (tip_mm <= 0.0) return 0.0;
   double scale = eye_stiffness_;
+  double toe_end = p_.toe_end_mm;
   const EffectSlot& iop = (*effects_)[EffectKind::kIopStiffness];
   if (iop.on) {
-    const double k = kIopStiffnessPerMmHg * iop.size * (iop_mmHg - kReferenceIop_mmHg);
-    scale *= iop.form == 0 ? std::exp(k) : std::max(0.1, 1.0 + k);
+    const forms::IopChange change = forms::iop_change(iop, iop_mmHg);
+    scale *= change.stiffness_factor;
+    toe_end *= change.toe_factor;
   }
+  const EffectSlot& cov = (*effects_)[EffectKind::kCovariate];
+  if (cov.on) scale *= forms::covariate_change(cov, effects_->covariate_value()).precut_factor;
   const double toe = p_.toe_slope_N_per_mm * scale;
-  if (tip_mm <= p_.toe_end_mm) return toe * tip_mm;
-  return toe * p_.toe_end_mm + p_.precut_slope_N_per_mm * scale * (tip_mm - p_.toe_end_mm);
+  if (tip_mm <= toe_end) return toe * tip_mm;
+  return toe * toe_end + p_.precut_slope_N_per_mm * scale * (tip_mm - toe_end);
 }
 
 double TissueTruth::cutting_force(double tip_mm, double iop_mmHg) const {
   const double xpi = puncture_depth_mm(iop_mmHg);
   const double xpf = final_depth_mm(iop_mmHg);
   const double xc = std::min(p_.cut_end_mm, xpf - 1e-3);
+  double cutting_scale = eye_cutting_;
+  const EffectSlot& cov = (*effects_)[EffectKind::kCovariate];
+  if (cov.on) cutting_scale *= forms::covariate_change(cov, effects_->covariate_value()).cutting_factor;
   auto plateau = [&](double x) {
     const double arg = std::max(x - p_.cut_log_origin_mm, 1e-3);
-    return p_.cut_log_gain_N * (std::log(arg) - p_.cut_linear_per_mm * x) +
-           p_.cut_iop_gain_N_per_mmHg * iop_mmHg + p_.cut_offset_N;
+    return cutting_scale * (p_.cut_log_gain_N * (std::log(arg) - p_.cut_linear_per_mm * x) +
+                            p_.cut_iop_gain_N_per_mmHg * iop_mmHg + p_.cut_offset_N);
   };
-  double force = 0.0;
   if (tip_mm < xpi + p_.drop_width_mm) {
     const double peak = elastic_force(xpi, iop_mmHg);
     const double end = plateau(xpi + p_.drop_width_mm);
-    force = peak + (end - peak) * std::clamp((tip_mm - xpi) / p_.drop_width_mm, 0.0, 1.0);
-  } else if (tip_mm < xc) {
-    force = plateau(tip_mm);
-  } else if (tip_mm < xpf) {
-    force = plateau(xc) * (xpf - tip_mm) / (xpf - xc);
+    return peak + (end - peak) * std::clamp((tip_mm - xpi) / p_.drop_width_mm, 0.0, 1.0);
   }
-  const EffectSlot& cov = (*effects_)[EffectKind::kCovariate];
-  if (cov.on) {
-    const double k = kCovariatePerUnit * cov.size * (effects_->covariate_value() - kCovariateReference);
-    force *= cov.form == 0 ? std::exp(-k) : std::max(0.1, 1.0 - k);
-  }
-  return force;
+  if (tip_mm < xc) return plateau(tip_mm);
+  if (tip_mm < xpf) return plateau(xc) * (xpf - tip_mm) / (xpf - xc);
+  return 0.0;
+}
+
+double TissueTruth::tearing_force(double tip_mm) const {
+  const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
+  const bool cutting = punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm;
+  if (!stick.on || !cutting || tip_mm < front_mm_ - 1e-3) return 0.0;
+  const double amplitude = forms::tearing_amplitude_N(stick, advance_velocity_mm_s_);
+  if (stick.form != 0) return amplitude * forms::tearing_pattern(stick, tip_mm - punctured_at_mm_, advance_velocity_mm_s_);
+  // Aperiodic: each tear builds up over its own length, then lets go.
+  const double length = std::max(tear_to_mm_ - tear_from_mm_, 1e-6);
+  return amplitude * (2.0 * std::clamp((tip_mm - tear_from_mm_) / length, 0.0, 1.0) - 1.0);
 }
 
 double TissueTruth::scaled_by_effects(double force, double tip_mm) const {
   const EffectSlot& rate = (*effects_)[EffectKind::kRateDependence];
-  if (rate.on) {
-    const double v = std::max(advance_velocity_mm_s_, 0.05);
-    force *= rate.form == 0
-                 ? std::pow(v / kReferenceVelocity_mm_s, kRatePower * rate.size)
-                 : std::max(0.1, 1.0 + kRateLinearPerMmS * rate.size * (v - kReferenceVelocity_mm_s));
-  }
-  const EffectSlot& relax = (*effects_)[EffectKind::kStressRelaxation];
-  if (relax.on && hold_s_ > 0.0) {
-    force *= relax.form == 0
-                 ? 1.0 - kRelaxFraction * relax.size * (1.0 - std::exp(-hold_s_ / kRelaxTau_s))
-                 : std::pow(1.0 + hold_s_ / kRelaxPowerTau_s, -kRelaxPower * relax.size);
-  }
-  const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
-  if (stick.on && punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm &&
-      tip_mm >= front_mm_ - 1e-3) {
-    // Tearing starts at the puncture: its phase is locked to where the blade entered.
-    const double cycles = (tip_mm - punctured_at_mm_) / kStickSlipPeriod_mm;
-    force += kStickSlipAmplitude_N * stick.size * periodic(stick.form == 0, cycles);
-  }
-  return force;
+  if (rate.on) force *= forms::rate_factor(rate, advance_velocity_mm_s_, punctured_);
+  if ((*effects_)[EffectKind::kStressRelaxation].on) force *= 1.0 - relaxed_;
+  return force + tearing_force(tip_mm);
 }
 
 double TissueTruth::friction_force(double tip_mm, double velocity_mm_s) const {
   const EffectSlot& friction = (*effects_)[EffectKind::kShaftFriction];
   if (!friction.on || !punctured_) return 0.0;
   const double inserted_mm = std::max(0.0, std::min(tip_mm, front_mm_) - punctured_at_mm_);
-  const double mu = kFriction_N_per_mm * friction.size;
-  const double magnitude =
-      friction.form == 0
-          ? mu * inserted_mm
-          : mu * kFrictionSaturation_mm * (1.0 - std::exp(-inserted_mm / kFrictionSaturation_mm));
-  return magnitude * std::tanh(velocity_mm_s / kFrictionSpeed_mm_s);
+  if (friction.form == 2) return dahl_N_per_mm_ * inserted_mm;
+  return forms::friction_per_mm(friction, velocity_mm_s) * inserted_mm;
 }
 
 double TissueTruth::force_at(double tip_mm, double iop_mmHg) const {
@@ -160,16 +137,32 @@ double TissueTruth::solve_tip(const TissueInput& input) const {
   if (!compliance.on || compliance.size <= 0.0) return input.carriage_depth_mm;
   double force = force_N_;
   double tip = input.carriage_depth_mm;
-  for (int i = 0; i < 6; ++i) {  // fixed point: tip = carriage - F(tip)/k(F)
-    const double k = compliance.form == 0
-                         ? kComplianceStiffness_N_per_mm / compliance.size
-                         : kComplianceStiffness_N_per_mm / compliance.size *
-                               (0.6 + std::max(force, 0.0) / kComplianceStiffening_N);
-    tip = input.carriage_depth_mm - force / k;
-    force = 0.5 * force + 0.5 * (force_at(tip, input.iop_mmHg) +
-                                 friction_force(tip, input.velocity_mm_s));
+  for (int i = 0; i < 6; ++i) {  // fixed point: tip = carriage - lag(F(tip))
+    tip = input.carriage_depth_mm - forms::compliance_lag_mm(compliance, force);
+    force = 0.5 * force + 0.5 * (force_at(tip, input.iop_mmHg) + friction_force(tip, input.velocity_mm_s));
   }
   return tip;
+}
+
+void TissueTruth::track_relaxation(bool held, double advanced_mm, double dt_s) {
+  const EffectSlot& relax = (*effects_)[EffectKind::kStressRelaxation];
+  if (held) {
+    if (hold_s_ <= 0.0) relaxed_at_hold_start_ = relaxed_;
+    hold_s_ += dt_s;
+    if (relax.on) relaxed_ = 1.0 - (1.0 - relaxed_at_hold_start_) * (1.0 - forms::relaxed_fraction(relax, hold_s_));
+  } else if (advanced_mm > 0.0) {
+    hold_s_ = 0.0;
+    relaxed_ *= std::exp(-advanced_mm / kRelaxRecovery_mm);  // fresh tissue carries the load again
+  }
+}
+
+void TissueTruth::track_tearing() {
+  const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
+  if (!stick.on || stick.form != 0 || !punctured_) return;
+  while (front_mm_ >= tear_to_mm_) {
+    tear_from_mm_ = std::max(tear_to_mm_, punctured_at_mm_);
+    tear_to_mm_ = tear_from_mm_ + kTearSpacing_mm * effects_->effect_rng().uniform(0.4, 1.6);
+  }
 }
 
 void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
@@ -181,11 +174,7 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   // than 50 um (servo jitter of a few um does not end a hold).
   // The tissue stays relaxed while the blade is withdrawn; only a new advance reloads it.
   const bool held = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - 0.05;
-  if (held) {
-    hold_s_ += input.dt_s;
-  } else if (tip > front_mm_) {
-    hold_s_ = 0.0;
-  }
+  track_relaxation(held, tip - front_mm_, input.dt_s);
   if (tip > front_mm_) {
     const double advanced = tip - front_mm_;
     front_mm_ = tip;
@@ -196,14 +185,37 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
     if (!punctured_ && tip >= puncture_depth_mm(input.iop_mmHg)) {
       punctured_ = true;
       punctured_at_mm_ = tip;
+      tear_from_mm_ = tear_to_mm_ = tip;
     }
   }
+  track_tearing();
+}
+
+double TissueTruth::extra_force(const TissueInput& input, double tissue_force_N) const {
+  if (!extra_) return 0.0;
+  ForceContext c;
+  c.run_time_s = input.run_time_s;
+  c.tip_mm = tip_mm_;
+  c.front_mm = front_mm_;
+  c.velocity_mm_s = input.velocity_mm_s;
+  c.tissue_force_N = tissue_force_N;
+  c.iop_mmHg = input.iop_mmHg;
+  c.hold_s = hold_s_;
+  c.punctured_at_mm = punctured_at_mm_;
+  c.punctured = punctured_;
+  return extra_->force_N(c);
 }
 
 double TissueTruth::update(const TissueInput& input, RandomSource& rng) {
+  const double previous_tip = tip_mm_;
   tip_mm_ = solve_tip(input);
   track_motion(input, rng);
-  force_N_ = force_at(tip_mm_, input.iop_mmHg) + friction_force(tip_mm_, input.velocity_mm_s);
+  const EffectSlot& friction = (*effects_)[EffectKind::kShaftFriction];
+  if (friction.on && friction.form == 2 && punctured_ && previous_tip > -1.0) {
+    dahl_N_per_mm_ += forms::dahl_step(friction, dahl_N_per_mm_, tip_mm_ - previous_tip);
+  }
+  const double tissue = force_at(tip_mm_, input.iop_mmHg) + friction_force(tip_mm_, input.velocity_mm_s);
+  force_N_ = tissue + extra_force(input, tissue);
   return force_N_;
 }
 

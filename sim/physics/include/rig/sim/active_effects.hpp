@@ -18,6 +18,7 @@ struct EffectSlot {
   double size = 1.0;      // multiple of the nominal magnitude
   double phase_rad = 0.0; // per-run phase (ripple, mains, stick-slip)
   double run_factor = 1.0;  // per-run signed factor (drift direction and rate)
+  double run_values[4] = {0.5, 0.5, 0.5, 0.5};  // per-run uniform draws (time constants, times)
 };
 
 class ActiveEffects {
@@ -33,11 +34,15 @@ class ActiveEffects {
   const std::string& covariate_key() const { return covariate_key_; }
   double covariate_value() const { return covariate_value_; }
   void set_covariate_value(double value) { covariate_value_ = value; }
+  // Random numbers the effects draw while a run goes on (tear spacing, random walk), apart
+  // from the noise stream so that switching an effect on leaves the noise unchanged.
+  RandomSource& effect_rng() const { return effect_rng_; }
 
  private:
   std::array<EffectSlot, kEffectKindCount> slots_{};
   std::string covariate_key_ = "post_mortem_h";
   double covariate_value_ = 2.0;
+  mutable RandomSource effect_rng_{7};
 };
 
 }  // namespace rig::sim

@@ -71,7 +71,13 @@ struct TissueParams {
   double table_xpf_mm[4] = {9.35, 9.55, 9.83, 10.03};
   double tear_noise_N = 0.0008;         // plateau fluctuation (tearing), 1 sigma
   double tear_correlation_mm = 0.05;    // its correlation length along the cut
-  double eye_variability = 0.0;         // relative sigma of per-eye stiffness and x_pi
+  // Eyes differ: every new eye draws its stiffness scale, puncture depth and cutting-force
+  // scale around the nominal values with these spreads (1 sigma), all multiplied by
+  // eye_variability (1 = the default spread, 0 = identical eyes).
+  double eye_variability = 1.0;
+  double eye_stiffness_sigma = 0.10;      // relative, pre-cut stiffness (toe and slope)
+  double eye_puncture_sigma_mm = 0.12;    // shift of x_pi
+  double eye_cutting_sigma = 0.06;        // relative, cutting plateau
 };
 
 struct PhysicsParams {

@@ -3,6 +3,7 @@
 // switches, and the DAQ's own communication watchdog. Time only moves through
 // advance_to(), so a caller can run it on a wall clock (rig-sim) or a virtual one (tests).
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "rig/drivers/actuator_drive.hpp"
@@ -66,6 +67,8 @@ class RigPhysics {
   void place_carriage(double position_mm) { motor_.set_position_mm(position_mm); }
   void set_iop(double iop_mmHg) { iop_.set_pressure_mmHg(iop_mmHg); }
   void set_next_eye_covariate(double value) { next_covariate_ = value; }
+  // A force law from outside the effect catalogue (sim/zoo), on every eye until replaced.
+  void set_extra_force(std::shared_ptr<const ExtraForce> law) { tissue_.set_extra_force(std::move(law)); }
 
  private:
   void step_once();

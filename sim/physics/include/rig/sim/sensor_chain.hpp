@@ -15,6 +15,7 @@ struct TrueSignals {
   double iop_mmHg = 0.0;
   double time_s = 0.0;         // simulation time
   double run_time_s = 0.0;     // time since the eye was mounted
+  double carriage_velocity_mm_s = 0.0;
 };
 
 class SensorChain {
@@ -23,6 +24,9 @@ class SensorChain {
       : p_(params), effects_(&effects), screw_pitch_mm_(screw_pitch_mm) {}
 
   drivers::AnalogFrame convert(const TrueSignals& truth, RandomSource& rng) const;
+  // Moves the slow instrument state (the random-walk drift) on by dt [s].
+  void advance(double dt_s);
+  void new_eye() { random_walk_N_ = 0.0; }
   // Force the load cell reports before offset and noise (effects included) [N].
   double instrument_force_N(const TrueSignals& truth) const;
 
@@ -31,6 +35,7 @@ class SensorChain {
   SensorParams p_;
   const ActiveEffects* effects_;
   double screw_pitch_mm_;
+  double random_walk_N_ = 0.0;
 };
 
 }  // namespace rig::sim

@@ -2,7 +2,10 @@
 // Ground-truth force between keratome and cornea. Depth is measured from the corneal
 // surface along the keratome axis [mm], positive into the eye; force is the axial force on
 // the keratome [N], positive pushing into the eye (run-CSV convention).
+#include <memory>
+
 #include "rig/sim/active_effects.hpp"
+#include "rig/sim/extra_force.hpp"
 #include "rig/sim/physics_params.hpp"
 #include "rig/sim/random_source.hpp"
 
@@ -13,6 +16,7 @@ struct TissueInput {
   double velocity_mm_s = 0.0;      // carriage velocity (+ into the eye)
   double iop_mmHg = 15.0;          // current line pressure
   double dt_s = 1e-4;
+  double run_time_s = 0.0;         // since the eye was mounted
 };
 
 class TissueTruth {
@@ -29,6 +33,11 @@ class TissueTruth {
   // Puncture and final depth for an IOP (Table 1, linear in IOP, clamped at the ends) [mm].
   double puncture_depth_mm(double iop_mmHg) const;
   double final_depth_mm(double iop_mmHg) const;
+  // This eye's draw (1 and 0 when eyes do not vary).
+  double eye_stiffness() const { return eye_stiffness_; }
+  double eye_puncture_shift_mm() const { return eye_xpi_shift_mm_; }
+  // A force law from outside the catalogue (the effect zoo), or nullptr.
+  void set_extra_force(std::shared_ptr<const ExtraForce> law) { extra_ = std::move(law); }
 
  private:
   double elastic_force(double tip_mm, double iop_mmHg) const;
@@ -38,6 +47,10 @@ class TissueTruth {
   double friction_force(double tip_mm, double velocity_mm_s) const;
   double solve_tip(const TissueInput& input) const;
   void track_motion(const TissueInput& input, RandomSource& rng);
+  void track_relaxation(bool held, double advanced_mm, double dt_s);
+  void track_tearing();
+  double tearing_force(double tip_mm) const;
+  double extra_force(const TissueInput& input, double tissue_force_N) const;
 
   TissueParams p_;
   const ActiveEffects* effects_;
@@ -50,7 +63,14 @@ class TissueTruth {
   double tear_N_ = 0.0;             // AR(1) tearing fluctuation
   double eye_stiffness_ = 1.0;      // per-eye variability factor
   double eye_xpi_shift_mm_ = 0.0;
+  double eye_cutting_ = 1.0;
   double punctured_at_mm_ = 0.0;   // where the blade entered
+  double relaxed_ = 0.0;           // relaxed fraction of the tissue force (stress_relaxation)
+  double relaxed_at_hold_start_ = 0.0;
+  double dahl_N_per_mm_ = 0.0;     // Dahl friction state per inserted length
+  double tear_from_mm_ = 0.0;      // aperiodic tearing: the current tear's start and end
+  double tear_to_mm_ = 0.0;
+  std::shared_ptr<const ExtraForce> extra_;
 };
 
 }  // namespace rig::sim

@@ -1,0 +1,134 @@
+#include "zoo_scorer.hpp"
+
+#include <algorithm>
+#include <chrono>
+
+#include "diagnosis.hpp"
+
+namespace rig::zoo {
+namespace {
+
+constexpr double kHeadlineMagnitude = 3.0;  // x noise floor: the targets count draws at or above this
+constexpr double kCloseShare = 0.25;       // after <= floor + 25 % of the excess
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+double candidate_rmse(const model::Diagnosis& d, const std::string& name) {
+  for (const auto& c : d.candidates) {
+    if (c.effect == name && c.applicable) return c.cv_rmse_N;
+  }
+  return d.baseline_cv_rmse_N;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+}  // namespace
+
+DrawScore score_draw(const ZooDraw& draw, int threads) {
+  DrawScore s;
+  s.seed = draw.seed;
+  s.kind = draw.kind;
+  s.family = draw.family;
+  s.form = draw.form;
+  s.expected = draw.expected;
+  s.magnitude = draw.magnitude;
+  const auto start = std::chrono::steady_clock::now();
+  const model::ForceModel paper = model::ForceModel::paper_interpreted();
+  model::DiagnoseOptions options;
+  options.threads = threads;
+  const model::Diagnosis d = model::diagnose(paper, draw.runs, options);
+  s.diagnose_s = seconds_since(start);
+  s.verdict = d.verdict;
+  s.baseline_N = d.baseline_cv_rmse_N;
+  s.floor_N = d.noise_floor_N;
+  s.after_N = candidate_rmse(d, d.verdict);
+  s.fit_close = s.after_N <= s.floor_N + kCloseShare * std::max(0.0, s.baseline_N - s.floor_N);
+  if (draw.kind != DrawKind::kMixture) {
+    s.correct = s.verdict == draw.expected.front();
+    return s;
+  }
+  const auto first = std::find(draw.expected.begin(), draw.expected.end(), d.verdict);
+  if (first == draw.expected.end()) return s;
+  options.with = {d.verdict};
+  const model::Diagnosis again = model::diagnose(paper, draw.runs, options);
+  s.diagnose_s = seconds_since(start);
+  s.second_verdict = again.verdict;
+  const std::string other = first == draw.expected.begin() ? draw.expected[1] : draw.expected[0];
+  s.correct = again.verdict == other;
+  s.after_N = candidate_rmse(again, again.verdict);
+  s.fit_close = s.after_N <= s.floor_N + kCloseShare * std::max(0.0, s.baseline_N - s.floor_N);
+  return s;
+}
+
+void summarise(ZooScore& z) {
+  ZooScore fresh;
+  fresh.draws = std::move(z.draws);
+  z = std::move(fresh);
+  std::vector<double> generate, diagnose;
+  for (const DrawScore& s : z.draws) {
+    generate.push_back(s.generate_s);
+    diagnose.push_back(s.diagnose_s);
+    const bool strong = s.magnitude >= kHeadlineMagnitude;
+    auto count = [&s](Rate& rate, bool hit) { rate.total += 1, rate.hits += hit ? 1 : 0; };
+    switch (s.kind) {
+      case DrawKind::kClean: count(z.false_alarms, s.verdict != "none"); break;
+      case DrawKind::kCatalogueForm:
+      case DrawKind::kZooLaw:
+        count(strong ? z.catalogue_correct : z.catalogue_correct_below_3x, s.correct);
+        if (strong) count(z.correct_by_family[s.family.rfind("covariate:", 0) == 0 ? "covariate" : s.family], s.correct);
+        break;
+      case DrawKind::kOutOfCatalogue:
+        if (strong) count(z.unexplained, s.verdict == "unexplained");
+        break;
+      case DrawKind::kMixture: count(z.mixtures_found, s.correct); break;
+    }
+    if (s.correct && s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue) count(z.fit_close, s.fit_close);
+  }
+  z.median_generate_s = median(generate);
+  z.median_diagnose_s = median(diagnose);
+}
+
+ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
+  ZooScore z;
+  for (int k = 0; k < o.draws; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    const ZooDraw draw = generator.draw(o.first_seed + static_cast<std::uint64_t>(k));
+    const double generate_s = seconds_since(start);
+    DrawScore s = score_draw(draw, o.threads);
+    s.generate_s = generate_s;
+    if (o.verbose) {
+      std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s (%.1f s + %.1f s)\n",
+                   static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
+                   s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then " + s.second_verdict + " ").c_str(),
+                   s.correct ? "ok" : "MISS", s.generate_s, s.diagnose_s);
+    }
+    z.draws.push_back(std::move(s));
+  }
+  summarise(z);
+  return z;
+}
+
+void print_score(const ZooScore& z, std::FILE* out) {
+  auto line = [out](const char* what, const Rate& r, const char* target) {
+    std::fprintf(out, "  %-62s %5.1f %%  (%d of %d)   target %s\n", what, r.percent(), r.hits, r.total, target);
+  };
+  std::fprintf(out, "blind effect zoo: %zu draws, median %.1f s to simulate and %.1f s to diagnose a draw\n", z.draws.size(),
+               z.median_generate_s, z.median_diagnose_s);
+  line("correct verdict, catalogue families in other forms, >= 3x floor", z.catalogue_correct, ">= 90 %");
+  for (const auto& [family, rate] : z.correct_by_family) {
+    std::fprintf(out, "    %-60s %5.1f %%  (%d of %d)\n", family.c_str(), rate.percent(), rate.hits, rate.total);
+  }
+  line("correct verdict, the same under 3x floor", z.catalogue_correct_below_3x, "(none)");
+  line("false alarms on effect-free sets", z.false_alarms, "<= 5 %");
+  line("`unexplained` on out-of-catalogue effects, >= 3x floor", z.unexplained, ">= 80 %");
+  line("mixtures: both named in two rounds (diagnose --with)", z.mixtures_found, "(none)");
+  line("error after a correct verdict <= floor + 25 % of the excess", z.fit_close, ">= 90 %");
+}
+
+}  // namespace rig::zoo

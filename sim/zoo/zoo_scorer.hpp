@@ -1,0 +1,60 @@
+#pragma once
+// Blind scoring of the model lab on the effect zoo: runs `diagnose` (model/lab) on every
+// draw and reports the lab's headline rates (docs/model-lab.md): correct verdicts on
+// catalogue families in forms that are not the lab's, false alarms on effect-free sets,
+// `unexplained` on out-of-catalogue structure, mixtures found in two rounds, and whether
+// the named effect brings the CV error close to the floor.
+#include <cstdint>
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "zoo_generator.hpp"
+
+namespace rig::zoo {
+
+struct DrawScore {
+  std::uint64_t seed = 0;
+  DrawKind kind = DrawKind::kClean;
+  std::string family, form;
+  std::vector<std::string> expected;
+  double magnitude = 0.0;
+  std::string verdict;            // first round
+  std::string second_verdict;     // mixtures: with the first round's verdict in the base
+  bool correct = false;           // the verdict (both, for mixtures) is what was expected
+  double baseline_N = 0.0, floor_N = 0.0, after_N = 0.0;  // CV RMSE before/after the verdict, floor
+  bool fit_close = false;         // after <= floor + 25 % of (baseline - floor)
+  double generate_s = 0.0, diagnose_s = 0.0;
+};
+
+struct Rate {
+  int hits = 0, total = 0;
+  double percent() const { return total > 0 ? 100.0 * hits / total : 0.0; }
+};
+
+struct ZooScore {
+  std::vector<DrawScore> draws;
+  Rate catalogue_correct;                      // catalogue families (both kinds) at >= 3x the floor
+  std::map<std::string, Rate> correct_by_family;
+  Rate catalogue_correct_below_3x;             // the same under 3x (reported, no target)
+  Rate false_alarms;                           // clean sets with a verdict other than none
+  Rate unexplained;                            // out-of-catalogue sets answered `unexplained` (>= 3x)
+  Rate mixtures_found;                         // both effects named in two rounds
+  Rate fit_close;                              // among correct verdicts
+  double median_generate_s = 0.0, median_diagnose_s = 0.0;
+};
+
+struct ScoreOptions {
+  std::uint64_t first_seed = 1000;
+  int draws = 200;
+  int threads = 2;       // diagnose's worker threads
+  bool verbose = false;  // one line per draw on stderr
+};
+
+DrawScore score_draw(const ZooDraw& draw, int threads);
+ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& options);
+void summarise(ZooScore& score);
+void print_score(const ZooScore& score, std::FILE* out);
+
+}  // namespace rig::zoo

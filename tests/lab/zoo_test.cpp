@@ -1,0 +1,244 @@
+// The simulator is not the model lab's mirror, and the effect zoo is fit for blind scoring:
+// every hidden-effect form leaves a residual against the best fit of the lab's own term,
+// eyes differ by default, every protocol stops before and after the puncture, and a small
+// blind zoo (seeds never used while developing) is generated, labelled and scored. The
+// lab's rates are printed, not asserted: the lab changes under this test (docs/model-lab.md).
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <set>
+
+#include "effect_catalogue.hpp"
+#include "lab_scenarios.hpp"
+#include "rig/sim/effect_forms.hpp"
+#include "rig/sim/rig_physics.hpp"
+#include "zoo_scorer.hpp"
+
+namespace rig::sim {
+namespace {
+
+EffectSlot slot(EffectKind kind, const std::string& form) {
+  const auto forms = effect_forms(kind);
+  EffectSlot s;
+  s.on = true;
+  s.form = static_cast<int>(std::find(forms.begin(), forms.end(), form) - forms.begin());
+  return s;
+}
+
+// RMS of the least-squares residual of y on the columns, relative to the RMS of y.
+double relative_residual(const Eigen::MatrixXd& columns, const Eigen::VectorXd& y) {
+  const Eigen::VectorXd beta = columns.colPivHouseholderQr().solve(y);
+  return (y - columns * beta).norm() / std::max(y.norm(), 1e-300);
+}
+
+// Fits y(x) by the lab's linear-in-parameters shape (columns from x) and returns the residual.
+double residual_against(const std::vector<double>& xs, const std::function<double(double)>& y,
+                        const std::function<std::vector<double>(double)>& lab_columns) {
+  const auto width = static_cast<Eigen::Index>(lab_columns(xs.front()).size());
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(xs.size()), width);
+  Eigen::VectorXd b(static_cast<Eigen::Index>(xs.size()));
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    const auto row = lab_columns(xs[i]);
+    for (Eigen::Index c = 0; c < width; ++c) a(static_cast<Eigen::Index>(i), c) = row[static_cast<std::size_t>(c)];
+    b(static_cast<Eigen::Index>(i)) = y(xs[i]);
+  }
+  return relative_residual(a, b);
+}
+
+std::vector<double> grid(double from, double to, int n) {
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i) out.push_back(from + (to - from) * i / (n - 1));
+  return out;
+}
+
+// Half a per cent of the effect is far more than any rounding of an exact special case. (A
+// power-law relaxation is the closest: 0.7 % over a 3 s hold, docs/sim.md.)
+constexpr double kLeftOver = 0.005;
+
+TEST(SimulatedForms, AreNoRateLawOfTheLabsLogQuadraticShape) {
+  // The lab: factor = exp(p0 u + p1 u^2), u = ln(v / 2 mm/s), on every phase.
+  for (const std::string form : {"power_cutoff", "logarithmic", "linear", "carreau"}) {
+    const EffectSlot s = slot(EffectKind::kRateDependence, form);
+    const double r = residual_against(grid(0.5, 4.0, 60), [&](double v) { return std::log(forms::rate_factor(s, v, true)); },
+                                      [](double v) { const double u = std::log(v / 2.0); return std::vector<double>{u, u * u}; });
+    std::printf("rate_dependence:%-14s residual %.3f of the effect\n", form.c_str(), r);
+    EXPECT_GT(r, kLeftOver) << form;
+  }
+  EXPECT_EQ(forms::rate_factor(slot(EffectKind::kRateDependence, "carreau"), 0.5, false), 1.0)
+      << "Carreau acts on the cut only, the lab's term on every phase";
+}
+
+TEST(SimulatedForms, AreNoComplianceOfTheLabsQuadraticLag) {
+  for (const std::string form : {"hardening", "softening", "backlash", "stiffening"}) {
+    const EffectSlot s = slot(EffectKind::kRigCompliance, form);
+    const double r = residual_against(grid(0.0, 0.3, 60), [&](double f) { return forms::compliance_lag_mm(s, f); },
+                                      [](double f) { return std::vector<double>{f, f * f}; });
+    std::printf("rig_compliance:%-12s residual %.3f of the lag\n", form.c_str(), r);
+    EXPECT_GT(r, kLeftOver) << form;
+  }
+}
+
+TEST(SimulatedForms, AreNoRelaxationOfTheLabsStretchedExponential) {
+  // The lab: relaxed = p0 (1 - exp(-(t/p1)^p2)); the best (p1, p2) on a fine grid, p0 by least squares.
+  const auto times = grid(0.01, 3.0, 120);
+  for (const std::string form : {"prony2", "prony3", "power"}) {
+    const EffectSlot s = slot(EffectKind::kStressRelaxation, form);
+    double best = 1e9;
+    for (double tau = 0.02; tau < 30.0; tau *= 1.05) {
+      for (double beta = 0.1; beta <= 1.5; beta += 0.01) {
+        best = std::min(best, residual_against(times, [&](double t) { return forms::relaxed_fraction(s, t); },
+                                               [&](double t) { return std::vector<double>{1.0 - std::exp(-std::pow(t / tau, beta))}; }));
+      }
+    }
+    std::printf("stress_relaxation:%-8s residual %.3f of the relaxed fraction\n", form.c_str(), best);
+    EXPECT_GT(best, kLeftOver) << form;
+  }
+}
+
+TEST(SimulatedForms, AreNoDriftOfTheLabsQuadraticInTime) {
+  for (const std::string form : {"thermal", "step", "warmup"}) {
+    EffectSlot s = slot(EffectKind::kSensorDrift, form);
+    s.run_values[0] = 0.1;  // thermal time constant 3.8 s
+    s.run_values[1] = 0.4;  // step at 9.8 s
+    const double r = residual_against(grid(0.0, 30.0, 300), [&](double t) { return forms::drift_N(s, t, 0.0); },
+                                      [](double t) { return std::vector<double>{1.0, t, t * t}; });
+    std::printf("sensor_drift:%-8s residual %.3f of the drift\n", form.c_str(), r);
+    EXPECT_GT(r, kLeftOver) << form;
+  }
+}
+
+TEST(SimulatedForms, AreNoCovariateScalingOfTheLabsExpQuadratic) {
+  for (const std::string form : {"sigmoid", "hinge_all"}) {
+    const EffectSlot s = slot(EffectKind::kCovariate, form);
+    const double r = residual_against(grid(0.5, 3.5, 60), [&](double h) { return std::log(forms::covariate_change(s, h).cutting_factor); },
+                                      [](double h) { const double z = h - 2.0; return std::vector<double>{z, z * z}; });
+    std::printf("covariate:%-10s residual %.3f of the log factor\n", form.c_str(), r);
+    EXPECT_GT(r, kLeftOver) << form;
+  }
+  const auto shift = forms::covariate_change(slot(EffectKind::kCovariate, "puncture_shift"), 3.5);
+  EXPECT_EQ(shift.cutting_factor, 1.0);
+  EXPECT_GT(shift.puncture_shift_mm, 0.1) << "moves the puncture: no force scaling can say that";
+}
+
+TEST(SimulatedForms, FrictionDependsOnSpeedOrHoldsAtRestUnlikeTheLabsTerm) {
+  // The lab's friction is the same at every speed and zero in a hold.
+  for (const std::string form : {"coulomb_viscous", "stribeck"}) {
+    const EffectSlot s = slot(EffectKind::kShaftFriction, form);
+    double lowest = 1e9, highest = 0.0;
+    for (const double v : grid(0.5, 4.0, 36)) {
+      lowest = std::min(lowest, forms::friction_per_mm(s, v));
+      highest = std::max(highest, forms::friction_per_mm(s, v));
+    }
+    std::printf("shaft_friction:%-16s %.4f to %.4f N/mm over 0.5-4 mm/s\n", form.c_str(), lowest, highest);
+    EXPECT_GT((highest - lowest) / highest, 0.2) << form;
+  }
+  const EffectSlot dahl = slot(EffectKind::kShaftFriction, "dahl");
+  double z = 0.0;
+  for (int i = 0; i < 1000; ++i) z += forms::dahl_step(dahl, z, 0.002);  // 2 mm inward
+  const double at_rest = z + forms::dahl_step(dahl, z, 0.0);
+  EXPECT_GT(at_rest, 0.005) << "Dahl friction keeps its value while the blade rests";
+}
+
+TEST(SimulatedEyes, DifferByDefaultAndAreIdenticalWhenVariationIsOff) {
+  PhysicsParams params;
+  RigPhysics varied(params);
+  std::set<double> stiffness, puncture;
+  for (int eye = 0; eye < 8; ++eye) {
+    varied.mount_new_eye(2.0);
+    stiffness.insert(varied.tissue().eye_stiffness());
+    puncture.insert(varied.tissue().puncture_depth_mm(15.0));
+  }
+  EXPECT_EQ(stiffness.size(), 8U);
+  EXPECT_GT(*puncture.rbegin() - *puncture.begin(), 0.05);
+  params.tissue.eye_variability = 0.0;
+  RigPhysics identical(params);
+  identical.mount_new_eye(2.0);
+  EXPECT_EQ(identical.tissue().eye_stiffness(), 1.0);
+  EXPECT_EQ(identical.tissue().puncture_depth_mm(15.0), 3.55);
+}
+
+// Depths [mm] where the blade rested for at least 0.8 s inside the eye.
+std::vector<double> rest_depths(const model::RunData& run) {
+  std::vector<double> rests;
+  std::size_t start = 0;
+  for (std::size_t i = 1; i <= run.size(); ++i) {
+    if (i < run.size() && std::abs(run.x_mm[i] - run.x_mm[start]) < 0.02) continue;
+    if (run.x_mm[start] > 0.5 && run.t_s[i - 1] - run.t_s[start] >= 0.8) rests.push_back(run.x_mm[start]);
+    start = i;
+  }
+  return rests;
+}
+
+void expect_stops_before_and_after_the_puncture(const model::RunData& run) {
+  const auto rests = rest_depths(run);
+  auto any = [&](double lo, double hi) { return std::any_of(rests.begin(), rests.end(), [&](double x) { return x > lo && x < hi; }); };
+  EXPECT_TRUE(any(1.5, 3.0)) << run.source << ": no stop before the puncture";
+  EXPECT_TRUE(any(5.0, 6.0)) << run.source << ": no stop after the puncture";
+  EXPECT_TRUE(any(11.5, 12.5)) << run.source << ": no hold at depth";
+}
+
+TEST(EveryScenario, StopsBeforeAndAfterThePunctureWhateverTheHiddenEffect) {
+  for (const std::string hidden : {"rate_dependence", "stress_relaxation"}) {
+    const auto runs = testing::scenario_runs({hidden}, 5);
+    expect_stops_before_and_after_the_puncture(runs.front());
+    expect_stops_before_and_after_the_puncture(runs.back());
+  }
+}
+
+}  // namespace
+}  // namespace rig::sim
+
+namespace rig::zoo {
+namespace {
+
+bool legal_verdict(const std::string& v) {
+  if (v == "none" || v == "unexplained" || v.rfind("covariate:", 0) == 0) return true;
+  const auto& names = model::EffectCatalogue::builtin_names();
+  return std::find(names.begin(), names.end(), v) != names.end();
+}
+
+// Seeds 770001... were never used while the simulator and the zoo were written.
+TEST(BlindZoo, DrawsAreLabelledCalibratedAndScored) {
+  const ZooGenerator generator;
+  ScoreOptions options;
+  options.first_seed = 770001;
+  options.draws = 3;
+  ZooScore score;
+  bool calibration_checked = false;
+  for (int k = 0; k < options.draws; ++k) {
+    const auto start = std::chrono::steady_clock::now();
+    const ZooDraw draw = generator.draw(options.first_seed + static_cast<std::uint64_t>(k));
+    const double generate_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    ASSERT_EQ(draw.runs.size(), 9U);
+    for (const auto& expected : draw.expected) EXPECT_TRUE(legal_verdict(expected)) << expected;
+    sim::expect_stops_before_and_after_the_puncture(draw.runs.front());
+    if (draw.kind != DrawKind::kClean && !calibration_checked) {
+      // Measured against the same eyes without the effect, the magnitude is what the label says.
+      std::vector<model::RunData> clean;
+      for (const auto& spec : generator.run_specs(draw.seed)) clean.push_back(sim::generate_run({}, spec));
+      const double measured = effect_rms_ratio(draw.runs, clean, 0.0015);
+      std::printf("draw %llu (%s): labelled %.2fx, measured %.2fx the noise\n", static_cast<unsigned long long>(draw.seed),
+                  draw.form.c_str(), draw.magnitude, measured);
+      EXPECT_NEAR(measured / draw.magnitude, 1.0, 0.5);
+      calibration_checked = true;
+    }
+    DrawScore s = score_draw(draw, 2);
+    s.generate_s = generate_s;
+    std::printf("draw %llu %s (%s, %.1fx): expected %s, verdict %s\n", static_cast<unsigned long long>(s.seed), s.family.c_str(),
+                s.form.c_str(), s.magnitude, s.expected.front().c_str(), s.verdict.c_str());
+    EXPECT_TRUE(legal_verdict(s.verdict)) << s.verdict;
+    score.draws.push_back(s);
+  }
+  summarise(score);
+  print_score(score, stdout);
+  const int counted = score.catalogue_correct.total + score.catalogue_correct_below_3x.total + score.false_alarms.total +
+                      score.mixtures_found.total;
+  EXPECT_LE(counted, options.draws);
+}
+
+}  // namespace
+}  // namespace rig::zoo
