@@ -25,8 +25,10 @@ TEST(Demo, OnceAsJsonCutsTwoThousandSamplesPerMillimetreAndFindsThePeakWhereTheT
   }
   EXPECT_GE(j["samples"].get<int>(), 5000);
   EXPECT_LT(std::abs(j["velocity_error_pct"].get<double>()), 1.0);
-  const sim::TissueParams truth;  // the simulated eye: x_pi(15 mmHg) from Table 1
-  EXPECT_NEAR(j["x_at_peak_mm"].get<double>(), truth.table_xpi_mm[0], 0.1);
+  // The simulated eye: x_pi(15 mmHg) from Table 1, shifted by this eye's own puncture depth
+  // (eyes differ by default, 1 sigma = eye_puncture_sigma_mm): within 3 sigma + 0.1 mm.
+  const sim::TissueParams truth;
+  EXPECT_NEAR(j["x_at_peak_mm"].get<double>(), truth.table_xpi_mm[0], 0.1 + 3.0 * truth.eye_puncture_sigma_mm * truth.eye_variability);
   EXPECT_LT(j["model_rmse_N"].get<double>(), 0.01);
 }
 
