@@ -22,7 +22,11 @@ struct FitReport {
   std::vector<std::string> effects;  // every effect of the fitted family
   double before_cv_rmse_N = 0.0;
   double after_cv_rmse_N = 0.0;
-  double noise_floor_N = 0.0;
+  double noise_floor_N = 0.0;                   // of the fitted family: measurement + eye variation
+  double measurement_noise_N = 0.0;
+  double eye_variation_N = 0.0;
+  double eye_spread_scale = 0.0;                // population SD of the eyes' tissue-force scale
+  double eye_spread_x_pi_mm = 0.0;              // and of their puncture depth [mm]
   std::vector<SegmentMetrics> before_by_phase;  // from the cross-validated residuals
   std::vector<SegmentMetrics> after_by_phase;
   std::map<std::string, std::map<std::string, double>> params;  // "baseline" and each effect

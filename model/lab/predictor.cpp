@@ -24,11 +24,15 @@ ModelParams Predictor::initial_params() const {
 }
 
 void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
-                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S) const {
+                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S, const EyeParams* eye,
+                         std::vector<double>* tissue) const {
   ForceModel m = model_;
   m.params = p.base;
   for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->adjust_model(run, p.shared[k].data(), m.params);
+  if (eye != nullptr) m.params.x_pi_shift += eye->x_pi_mm;
+  const double eye_scale = eye != nullptr ? 1.0 + eye->scale : 1.0;
   out.resize(rows.size());
+  if (tissue != nullptr) tissue->resize(rows.size());
   if (X != nullptr) X->resize(static_cast<Eigen::Index>(rows.size()), linear_columns_);
   if (S != nullptr) S->resize(static_cast<Eigen::Index>(rows.size()), shared_columns_);
   const RunData& r = *run.data;
@@ -49,6 +53,8 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
       scale *= terms_[k]->scale(s, p.shared[k].data());
     }
     double force = m.baseline(s.x_mm - shift, run.front_mm[i] - shift, run.iop_mmHg) * scale;
+    if (tissue != nullptr) (*tissue)[n] = force;
+    force *= eye_scale;
     double added = 0.0;
     for (std::size_t k = 0; k < terms_.size(); ++k) added += terms_[k]->add(s, p.shared[k].data(), force);
     out[n] = force + added;
@@ -75,7 +81,7 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
     // No caller wants the shared columns: apply the known shared coefficients directly.
     Eigen::MatrixXd shared_design;
     std::vector<double> ignored;
-    evaluate(run, p, rows, ignored, nullptr, &shared_design);
+    evaluate(run, p, rows, ignored, nullptr, &shared_design, eye);
     const Eigen::VectorXd add = shared_design * p.shared_linear;
     for (std::size_t n = 0; n < rows.size(); ++n) out[n] += add(static_cast<Eigen::Index>(n));
   }
