@@ -20,7 +20,7 @@ struct RunResidual {
   const ModelParams* p;
   const Eigen::VectorXd* beta;
 
-  std::vector<double> at(const std::vector<std::size_t>& rows, const EyeParams& eye, std::vector<double>* tissue = nullptr) const {
+  std::vector<double> at(const std::vector<std::size_t>& rows, const EyeParams& eye, EyeColumns* tissue = nullptr) const {
     std::vector<double> prediction;
     Eigen::MatrixXd X;
     const bool linear = predictor->linear_columns() > 0 && beta->size() == predictor->linear_columns();
@@ -41,7 +41,8 @@ struct RunResidual {
 
 struct RunEstimate {
   EyeParams eye;
-  double var_scale = kUnknown;  // sampling variances of the unpenalised estimates
+  double var_precut = kUnknown;  // sampling variances of the unpenalised estimates
+  double var_cut = kUnknown;
   double var_shift = kUnknown;
 };
 
@@ -63,7 +64,7 @@ std::vector<std::size_t> rows_near_puncture(const Predictor& predictor, const Pr
 // curvature there for the sampling variance.
 void fit_shift(const RunResidual& residual, const std::vector<std::size_t>& rows, double noise_N2, RunEstimate& e) {
   if (rows.size() < 5) return;
-  auto sse = [&](double shift) { return residual.sse(rows, {e.eye.scale, shift}); };
+  auto sse = [&](double shift) { return residual.sse(rows, {e.eye.precut_scale, e.eye.cut_scale, shift}); };
   double best = 0.0, best_sse = sse(0.0);
   for (double s = -kShiftRange_mm; s <= kShiftRange_mm + 1e-9; s += kShiftStep_mm) {
     const double value = sse(s);
@@ -85,16 +86,24 @@ void fit_shift(const RunResidual& residual, const std::vector<std::size_t>& rows
   e.var_shift = curvature > 0.0 ? 2.0 * noise_N2 / curvature : kUnknown;
 }
 
-// The scale by least squares over all fit rows (the prediction is linear in it).
-void fit_scale(const RunResidual& residual, const PreparedRun& run, double& noise_N2, RunEstimate& e) {
-  std::vector<double> tissue;
-  const std::vector<double> r = residual.at(run.fit_rows, {0.0, e.eye.x_pi_mm}, &tissue);
-  double tt = 0.0, tr = 0.0, rr = 0.0;
-  for (std::size_t n = 0; n < r.size(); ++n) tt += tissue[n] * tissue[n], tr += tissue[n] * r[n], rr += r[n] * r[n];
-  if (tt <= 0.0 || r.empty()) return;
-  e.eye.scale = tr / tt;
-  noise_N2 = std::max((rr - tr * tr / tt) / static_cast<double>(r.size()), 1e-12);
-  e.var_scale = noise_N2 / tt;
+// The scales by least squares over all fit rows (the prediction is linear in them and each
+// row carries one of the two).
+void fit_scales(const RunResidual& residual, const PreparedRun& run, double& noise_N2, RunEstimate& e) {
+  EyeColumns tissue;
+  const std::vector<double> r = residual.at(run.fit_rows, {0.0, 0.0, e.eye.x_pi_mm}, &tissue);
+  double pp = 0.0, pr = 0.0, cc = 0.0, cr = 0.0, rr = 0.0;
+  for (std::size_t n = 0; n < r.size(); ++n) {
+    pp += tissue.precut[n] * tissue.precut[n], pr += tissue.precut[n] * r[n];
+    cc += tissue.cut[n] * tissue.cut[n], cr += tissue.cut[n] * r[n];
+    rr += r[n] * r[n];
+  }
+  if (r.empty()) return;
+  e.eye.precut_scale = pp > 0.0 ? pr / pp : 0.0;
+  e.eye.cut_scale = cc > 0.0 ? cr / cc : 0.0;
+  const double explained = (pp > 0.0 ? pr * pr / pp : 0.0) + (cc > 0.0 ? cr * cr / cc : 0.0);
+  noise_N2 = std::max((rr - explained) / static_cast<double>(r.size()), 1e-12);
+  e.var_precut = pp > 0.0 ? noise_N2 / pp : kUnknown;
+  e.var_cut = cc > 0.0 ? noise_N2 / cc : kUnknown;
 }
 
 RunEstimate estimate_run(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta) {
@@ -102,10 +111,10 @@ RunEstimate estimate_run(const Predictor& predictor, const PreparedRun& run, con
   const std::vector<std::size_t> near = rows_near_puncture(predictor, run, p);
   RunEstimate e;
   double noise_N2 = 0.0;
-  fit_scale(residual, run, noise_N2, e);
-  for (int round = 0; round < 2; ++round) {  // alternate: shift given scale, scale given shift
+  fit_scales(residual, run, noise_N2, e);
+  for (int round = 0; round < 2; ++round) {  // alternate: shift given scales, scales given shift
     fit_shift(residual, near, noise_N2, e);
-    fit_scale(residual, run, noise_N2, e);
+    fit_scales(residual, run, noise_N2, e);
   }
   return e;
 }
@@ -139,10 +148,12 @@ EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const Pr
   std::vector<RunEstimate> estimates;
   const Eigen::VectorXd none;
   for (std::size_t r = 0; r < runs.size(); ++r) estimates.push_back(estimate_run(predictor, *runs[r], p, r < betas.size() ? betas[r] : none));
-  out.spread.scale = spread_of(estimates, &EyeParams::scale, &RunEstimate::var_scale);
+  out.spread.precut_scale = spread_of(estimates, &EyeParams::precut_scale, &RunEstimate::var_precut);
+  out.spread.cut_scale = spread_of(estimates, &EyeParams::cut_scale, &RunEstimate::var_cut);
   out.spread.x_pi_mm = spread_of(estimates, &EyeParams::x_pi_mm, &RunEstimate::var_shift);
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    out.eyes[r].scale = shrink(estimates[r].eye.scale, estimates[r].var_scale, out.spread.scale);
+    out.eyes[r].precut_scale = shrink(estimates[r].eye.precut_scale, estimates[r].var_precut, out.spread.precut_scale);
+    out.eyes[r].cut_scale = shrink(estimates[r].eye.cut_scale, estimates[r].var_cut, out.spread.cut_scale);
     out.eyes[r].x_pi_mm = shrink(estimates[r].eye.x_pi_mm, estimates[r].var_shift, out.spread.x_pi_mm);
   }
   return out;
@@ -157,15 +168,17 @@ double eye_variance_N2(const Predictor& predictor, const std::vector<const Prepa
   double sum = 0.0, samples = 0.0;
   for (const PreparedRun* run : runs) {
     if (run->fit_rows.empty()) continue;
-    std::vector<double> population, tissue, shifted;
+    std::vector<double> population, shifted;
+    EyeColumns tissue;
     predictor.evaluate(*run, p, run->fit_rows, population);
     double expected = 0.0;
     for (int k = 0; k < 3; ++k) {
-      const EyeParams eye{0.0, nodes[k] * spread.x_pi_mm};
+      const EyeParams eye{0.0, 0.0, nodes[k] * spread.x_pi_mm};
       predictor.evaluate(*run, p, run->fit_rows, shifted, nullptr, nullptr, &eye, &tissue);
       for (std::size_t n = 0; n < shifted.size(); ++n) {
         const double d = shifted[n] - population[n];
-        expected += weights[k] * (d * d + spread.scale * spread.scale * tissue[n] * tissue[n]);
+        const double pre = spread.precut_scale * tissue.precut[n], cut = spread.cut_scale * tissue.cut[n];
+        expected += weights[k] * (d * d + pre * pre + cut * cut);
       }
     }
     const double n_analysed = static_cast<double>(run->analysed.size());

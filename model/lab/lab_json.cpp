@@ -11,6 +11,10 @@ nlohmann::json to_json(const SegmentMetrics& m) {
 
 namespace {
 
+nlohmann::json to_json(const EyeSpread& s) {
+  return {{"precut_scale", s.precut_scale}, {"cut_scale", s.cut_scale}, {"x_pi_mm", s.x_pi_mm}};
+}
+
 nlohmann::json metrics_list(const std::vector<SegmentMetrics>& list) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& m : list) out.push_back(to_json(m));
@@ -40,8 +44,7 @@ nlohmann::json to_json(const Diagnosis& d) {
   nlohmann::json result = {
       {"baseline", {{"cv_rmse_N", d.baseline_cv_rmse_N}, {"noise_floor_N", d.noise_floor_N}, {"effects", d.base_effects}}},
       {"noise_floor", {{"total_N", d.floor.total_N}, {"measurement_N", d.floor.measurement_N},
-                       {"eye_variation_N", d.floor.eye_variation_N}, {"eye_spread_scale", d.floor.eye_spread.scale},
-                       {"eye_spread_x_pi_mm", d.floor.eye_spread.x_pi_mm},
+                       {"eye_variation_N", d.floor.eye_variation_N}, {"eye_spread", to_json(d.floor.eye_spread)},
                        {"definition", "sqrt(measurement^2 + eye_variation^2): white noise of the force channel plus the RMS "
                                       "that eye-to-eye variation (tissue-force scale, puncture depth) adds to a prediction "
                                       "for an eye not yet seen"}}},
@@ -65,7 +68,7 @@ nlohmann::json to_json(const FitReport& f) {
           {"after", {{"cv_rmse_N", f.after_cv_rmse_N}, {"by_phase", metrics_list(f.after_by_phase)}}},
           {"noise_floor_N", f.noise_floor_N},
           {"noise_floor", {{"measurement_N", f.measurement_noise_N}, {"eye_variation_N", f.eye_variation_N},
-                           {"eye_spread_scale", f.eye_spread_scale}, {"eye_spread_x_pi_mm", f.eye_spread_x_pi_mm}}},
+                           {"eye_spread", to_json(f.eye_spread)}}},
           {"params", f.params},
           {"per_run", per_run},
           {"warnings", f.warnings}};

@@ -53,8 +53,7 @@ FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, c
   report.noise_floor_N = floor.total_N;
   report.measurement_noise_N = floor.measurement_N;
   report.eye_variation_N = floor.eye_variation_N;
-  report.eye_spread_scale = floor.eye_spread.scale;
-  report.eye_spread_x_pi_mm = floor.eye_spread.x_pi_mm;
+  report.eye_spread = floor.eye_spread;
   if (!after.full.converged) report.warnings.push_back("the fit did not converge; its parameters are those where it stopped");
   report.before_by_phase = by_phase(before, runs);
   report.after_by_phase = by_phase(after, runs);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eye_params.hpp"
 #include "force_model.hpp"
 #include "run_data.hpp"
 #include "segment_metrics.hpp"
@@ -25,8 +26,7 @@ struct FitReport {
   double noise_floor_N = 0.0;                   // of the fitted family: measurement + eye variation
   double measurement_noise_N = 0.0;
   double eye_variation_N = 0.0;
-  double eye_spread_scale = 0.0;                // population SD of the eyes' tissue-force scale
-  double eye_spread_x_pi_mm = 0.0;              // and of their puncture depth [mm]
+  EyeSpread eye_spread;                         // population SDs of the eye parameters
   std::vector<SegmentMetrics> before_by_phase;  // from the cross-validated residuals
   std::vector<SegmentMetrics> after_by_phase;
   std::map<std::string, std::map<std::string, double>> params;  // "baseline" and each effect

@@ -98,6 +98,8 @@ ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs, con
   }
   std::sort(out.bins.begin(), out.bins.end(), [](const ExcessBin& a, const ExcessBin& b) { return a.share > b.share; });
   best_covariate(runs, residuals, covariates, out);
+  // Correlations over few runs are noisy: quote one only above 0.6 and 2/sqrt(runs).
+  out.covariate_threshold = std::max(0.6, 2.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(runs.size(), 1))));
   return out;
 }
 
@@ -109,7 +111,7 @@ std::string ResidualStructure::summary() const {
                   b.view.c_str(), b.bin.c_str(), 100.0 * b.share, 1000.0 * b.mean_residual_N);
     out += text;
   }
-  if (!covariate.empty() && std::abs(covariate_correlation) >= 0.6) {
+  if (!covariate.empty() && std::abs(covariate_correlation) >= covariate_threshold) {
     std::snprintf(text, sizeof text, "; runs' mean residual tracks %s (r = %+.2f)", covariate.c_str(), covariate_correlation);
     out += text;
   }

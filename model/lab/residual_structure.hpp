@@ -21,6 +21,7 @@ struct ResidualStructure {
   std::vector<ExcessBin> bins;           // the leading bin of every view, largest share first
   std::string covariate;                 // the run covariate best correlated with the runs' mean residual
   double covariate_correlation = 0.0;
+  double covariate_threshold = 1.0;      // |correlation| worth quoting for this many runs
   std::string summary() const;           // one line for people
 };
 

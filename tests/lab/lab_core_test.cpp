@@ -76,9 +76,9 @@ TEST(EyeVariation, IsNotReportedAsAnEffectAndRaisesTheFloor) {
   DiagnoseOptions o;
   o.only = {"rig_compliance", "shaft_friction", "rate_dependence"};
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), data, o);
-  std::printf("eyes differ: verdict %s, CV %.5f N, floor %.5f N (noise %.5f, eyes %.5f; spread scale %.3f, x_pi %.3f mm), best %s %+.1f %%\n",
+  std::printf("eyes differ: verdict %s, CV %.5f N, floor %.5f N (noise %.5f, eyes %.5f; spread precut %.3f, cut %.3f, x_pi %.3f mm), best %s %+.1f %%\n",
               d.verdict.c_str(), d.baseline_cv_rmse_N, d.noise_floor_N, d.floor.measurement_N, d.floor.eye_variation_N,
-              d.floor.eye_spread.scale, d.floor.eye_spread.x_pi_mm, d.candidates[0].effect.c_str(), -d.candidates[0].gain_pct);
+              d.floor.eye_spread.precut_scale, d.floor.eye_spread.cut_scale, d.floor.eye_spread.x_pi_mm, d.candidates[0].effect.c_str(), -d.candidates[0].gain_pct);
   EXPECT_EQ(d.verdict, "none");
   EXPECT_GT(d.floor.eye_spread.x_pi_mm, 0.05);
   EXPECT_GT(d.floor.eye_variation_N, d.floor.measurement_N);
