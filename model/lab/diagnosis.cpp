@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <future>
 #include <set>
 
@@ -145,6 +146,12 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
     if (close) {
       d.verdict = significant->effect;
       warn_about_fit(d, "verdict", *significant);
+      if (after > kWellAbove * floor) {
+        char text[200];
+        std::snprintf(text, sizeof text, "with %s the CV error is still %.1fx its floor: diagnose again --with %s for the next effect",
+                      significant->effect.c_str(), after / floor, significant->effect.c_str());
+        d.warnings.push_back(text);
+      }
       return;
     }
     d.verdict = "unexplained";
