@@ -72,6 +72,7 @@ bool term_left_start(const FitResult& fit) {
 
 struct Evaluated {
   CandidateResult result;
+  NoiseFloor floor;             // of baseline + this candidate
   ResidualStructure remaining;  // where its CV residuals still stand above its floor
 };
 
@@ -89,7 +90,8 @@ Evaluated evaluate(const std::string& name, const ForceModel& model, const Effec
   const ModelFamily family(model, catalogue, effects);
   const CvResult cv = family.cross_validate(runs);
   score(c, base, cv, parameter_count(name, catalogue, runs.size()));
-  c.floor_N = floor_of(family, cv.full, runs).total_N;
+  out.floor = floor_of(family, cv.full, runs);
+  c.floor_N = out.floor.total_N;
   c.explained_pct = base.rmse_N > c.floor_N ? 100.0 * (base.rmse_N - cv.rmse_N) / (base.rmse_N - c.floor_N) : 0.0;
   c.converged = cv.full.converged;
   c.left_start = term_left_start(cv.full);
@@ -145,6 +147,10 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
     const bool close = after - floor <= kCloseShare * (base - floor) || after <= kWellAbove * floor;
     if (close) {
       d.verdict = significant->effect;
+      for (const Evaluated& e : evaluated) {
+        if (e.result.effect == significant->effect) d.floor = e.floor;  // the floor of the model to adopt
+      }
+      d.noise_floor_N = d.floor.total_N;
       warn_about_fit(d, "verdict", *significant);
       if (after > kWellAbove * floor) {
         char text[200];

@@ -51,7 +51,10 @@ struct NoiseFloor {
 
 struct Diagnosis {
   double baseline_cv_rmse_N = 0.0;
-  double noise_floor_N = 0.0;                // the baseline's floor (NoiseFloor::total_N)
+  // The floor of the model the verdict leaves: baseline + the named effect, else the
+  // baseline (an effect that varies from run to run - IOP, velocity, wear - looks like eye
+  // variation to the baseline and inflates its floor).
+  double noise_floor_N = 0.0;
   NoiseFloor floor;
   std::vector<std::string> base_effects;     // already in the model
   std::vector<CandidateResult> candidates;   // best first; inapplicable ones last

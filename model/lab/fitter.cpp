@@ -152,6 +152,11 @@ double Fitter::sse(const ModelParams& p) const {
   return fvec.squaredNorm();
 }
 
+// Weight of the pull toward the start values [N per unit of the transformed parameter]:
+// like one extra row with a 1 mN error per unit of change, nothing against hundreds of rows
+// wherever the data constrain a parameter.
+constexpr double kStartPull_N = 1e-3;
+
 struct FitFunctor {
   using Scalar = double;
   enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
@@ -163,12 +168,16 @@ struct FitFunctor {
   const ModelParams* start;
   const std::vector<EyeParams>* eyes;
   int inputs() const { return static_cast<int>(fitter->specs_.size()); }
-  int values() const { return static_cast<int>(std::max(fitter->rows_, fitter->specs_.size())); }
+  const Eigen::VectorXd* start_u;
+  int values() const { return static_cast<int>(fitter->rows_ + fitter->specs_.size()); }
   int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& fvec) const {
     fvec.setZero(values());
     Eigen::VectorXd gamma;
     std::vector<Eigen::VectorXd> betas;
     fitter->evaluate_all(fitter->unpack(u, *start), *eyes, &fvec, gamma, betas);
+    // A weak pull toward the start values: it only decides directions the data leave flat
+    // (g against g0 when the training runs share one IOP), which would otherwise wander.
+    fvec.tail(static_cast<Eigen::Index>(fitter->specs_.size())) = kStartPull_N * (u - *start_u);
     return 0;
   }
 };
@@ -178,13 +187,13 @@ FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams
   result.params = start;
   result.converged = true;  // nothing to fit is not a failure
   if (!specs_.empty() && rows_ > specs_.size()) {
-    FitFunctor functor{this, &start, &eyes};
+    const Eigen::VectorXd u0 = pack(start);
+    FitFunctor functor{this, &start, &eyes, &u0};
     Eigen::NumericalDiff<FitFunctor> numeric(functor);
     Eigen::LevenbergMarquardt<Eigen::NumericalDiff<FitFunctor>> lm(numeric);
     lm.parameters.maxfev = max_evaluations;
     lm.parameters.xtol = 1e-8;
     lm.parameters.ftol = 1e-10;
-    const Eigen::VectorXd u0 = pack(start);
     Eigen::VectorXd u = u0;
     const auto status = lm.minimize(u);
     result.params = unpack(u, start);
