@@ -9,7 +9,7 @@ const CATALOGUE = ["rate_dependence", "iop_stiffness", "shaft_friction", "rig_co
 
 // What the browser tests read (window.rig): counts of what is drawn, the state, the lab's figures.
 const rig = window.rig = {samples: 0, modelPoints: 0, residualPoints: 0, frames: 0, state: "", runId: 0,
-                          events: [], lab: {before: null, after: null, verdict: null},
+                          events: [], lab: {before: null, after: null, verdict: null, plots: null},
                           mesh: {frames: 0, points: 0, punctured: false, maxDepth: 0, firstT: null, lastT: null}, haptic: null};
 const live = {x: [], force: [], model: [], t: [], residual: [], phases: [], curve: null};
 let token = sessionStorage.getItem("rigd-token") || "";
@@ -119,6 +119,9 @@ function onMessage(event) {
     li.textContent = `${fmt(m.t_s, 3)} s  ${m.kind}: ${m.message}`;
     $("events").prepend(li);
   } else if (m.type === "model") {
+    if (m.warnings && (!live.curve || live.curve.file !== m.file)) {
+      m.warnings.forEach(w => { const li = document.createElement("li"); li.className = "warn"; li.textContent = "model: " + w; $("events").prepend(li); });
+    }
     live.curve = m;
   } else if (m.type === "mesh") {
     if (window.rigHaptics) window.rigHaptics.onMesh(m);
@@ -228,15 +231,27 @@ async function labCall(action, body) {
   catch (e) { $("lab-summary").textContent = action + ": " + e.message; throw e; }
 }
 
+// The "where does it fail" plots (web/lab_plots.js, the same the HTML report draws).
+function drawLabPlots(result, action) {
+  const series = result.series;
+  rigLabPlots($("lab-plots"), series, uPlot, {width: Math.min(window.innerWidth - 80, 1000)});
+  rig.lab.plots = series ? {action, runs: series.runs.length, holds: series.hold.length, after: series.after !== undefined,
+                            depthBins: series.depth.x_mm.length,
+                            retractionBins: series.depth.retraction_N.filter(v => v !== null).length,
+                            canvases: $("lab-plots").querySelectorAll("canvas").length} : null;
+}
+
 $("b-refresh").onclick = loadRuns;
 $("b-compare").onclick = async () => {
   const c = await labCall("compare", {runs: pickedRuns()});
   drawPhases(c.by_phase, null);
+  drawLabPlots(c, "compare");
   $("lab-summary").textContent = `${c.model}: RMSE ${fmt(c.overall.rmse_N, 4)} N (noise floor ${fmt(c.noise_floor_N, 4)} N)`;
 };
 $("b-diagnose").onclick = async () => {
   const d = await labCall("diagnose", {runs: pickedRuns(), effects: pickedEffects()});
   rig.lab.verdict = d.verdict;
+  drawLabPlots(d, "diagnose");
   $("diagnosis").innerHTML = "<tr><th>effect</th><th>CV RMSE [N]</th><th>gain</th><th>significant</th><th>evidence</th></tr>" +
     d.candidates.map(c => `<tr class="${c.significant ? "significant" : ""}"><td>${c.effect}</td><td>${fmt(c.cv_rmse_N, 4)}</td>` +
       `<td>${fmt(c.gain_pct, 1)} %</td><td>${c.significant ? "yes" : "no"}</td><td>${c.evidence}</td></tr>`).join("");
@@ -248,6 +263,7 @@ $("b-fit").onclick = async () => {
   rig.lab.before = f.before.cv_rmse_N;
   rig.lab.after = f.after.cv_rmse_N;
   drawPhases(f.before.by_phase, f.after.by_phase);
+  drawLabPlots(f, "fit");
   const fall = 100 * (1 - f.after.cv_rmse_N / f.before.cv_rmse_N);
   $("lab-summary").textContent = `CV RMSE ${fmt(f.before.cv_rmse_N, 4)} N → ${fmt(f.after.cv_rmse_N, 4)} N (${fmt(-fall, 1)} %), noise floor ${fmt(f.noise_floor_N, 4)} N`;
 };

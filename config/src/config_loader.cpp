@@ -1,4 +1,5 @@
 // Reads rigd's TOML config against the declared schema (config_schema.cpp).
+#include <arpa/inet.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -107,6 +108,28 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
   return hash;
 }
 
+// rigd binds to an address, not a name: "localhost" may resolve to ::1, 127.0.0.1 or both.
+template <typename Fail>
+void check_bind_address(const std::string& bind, Fail fail) {
+  unsigned char buffer[16];
+  if (inet_pton(AF_INET, bind.c_str(), buffer) == 1 || inet_pton(AF_INET6, bind.c_str(), buffer) == 1) return;
+  fail("key 'api.bind' = \"" + bind + "\" is not an IP address (use \"127.0.0.1\" for loopback, \"0.0.0.0\" for every interface)");
+}
+
+template <typename Fail>
+void check_allowed_origins(const std::string& list, Fail fail) {
+  std::istringstream items(list);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    const auto first = item.find_first_not_of(" \t");
+    if (first == std::string::npos) continue;
+    const std::string origin = item.substr(first, item.find_last_not_of(" \t") - first + 1);
+    if (origin.rfind("http://", 0) != 0 && origin.rfind("https://", 0) != 0) {
+      fail("key 'api.allowed_origins': '" + origin + "' is not an origin like http://host:port");
+    }
+  }
+}
+
 void check_consistency(const RigdConfig& c, const std::string& origin) {
   const rt::MotionSettings& m = c.loop.motion;
   auto fail = [&](const std::string& what) { throw ConfigError(origin + ": " + what); };
@@ -123,7 +146,9 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
   if (c.daq.modbus.transport == "rtu" && c.daq.modbus.serial_device.empty()) {
     fail("key 'daq.serial_device' is required for daq.transport = \"rtu\"");
   }
-  const bool loopback = c.api.bind == "127.0.0.1" || c.api.bind == "::1" || c.api.bind == "localhost";
+  check_allowed_origins(c.api.allowed_origins, fail);
+  check_bind_address(c.api.bind, fail);
+  const bool loopback = c.api.bind == "127.0.0.1" || c.api.bind == "::1";
   if (!loopback && c.api.token_file.empty()) {
     fail("key 'api.bind' = \"" + c.api.bind + "\" is not loopback: 'api.token_file' is required");
   }

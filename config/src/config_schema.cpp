@@ -48,6 +48,8 @@ void add_loop_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("loop.priority", 0, 99, "SCHED_FIFO priority of the RT thread, 0 = none", RIG_AT(thread.priority)));
   f.push_back(integer("loop.cpu", -1, 1023, "CPU to pin the RT thread to, -1 = any", RIG_AT(thread.cpu)));
   f.push_back(boolean("loop.lock_memory", "mlockall before the loop starts", RIG_AT(thread.lock_memory)));
+  f.push_back(integer("loop.cpu_wake_latency_us", -1, 100000, "longest CPU wake-up from idle while the loop runs (PM QoS), -1 = no request [us]",
+                      RIG_AT(thread.cpu_wake_latency_us)));
   for (const char* channel : {"force", "position", "iop"}) {
     const std::string base = std::string("calibration.") + channel;
     auto pick = [c = std::string(channel)](RigdConfig& cfg) -> rt::LinearCalibration& {
@@ -89,8 +91,9 @@ void add_iop_and_safety_fields(std::vector<ConfigField>& f) {
   f.push_back(number("iop.min_mmHg", 0, 100, "lowest IOP a run may ask for [mmHg]", RIG_AT(loop.iop.min_mmHg)));
   f.push_back(number("iop.max_mmHg", 0, 100, "highest IOP a run may ask for [mmHg]", RIG_AT(loop.iop.max_mmHg)));
   f.push_back(number("iop.fault_band_mmHg", 0.1, 100, "fault if IOP leaves target +- band during a cut [mmHg]", RIG_AT(loop.iop.fault_band_mmHg)));
+  f.push_back(number("iop.fault_after_ms", 1, 5000, "... for this long [ms] (a pump step is not a leak)", RIG_AT(loop.iop.fault_after_ms)));
   f.push_back(number("safety.force_limit_N", 0.01, 100, "load-cell protection [N]", RIG_AT(loop.safety.force_limit_N)));
-  f.push_back(integer("safety.max_consecutive_misses", 1, 100, "failed DAQ reads in a row before link loss", RIG_AT(loop.safety.max_consecutive_misses)));
+  f.push_back(number("safety.link_lost_after_ms", 0.5, 1000, "time without a valid DAQ reply (on-time cycles) before link loss [ms]", RIG_AT(loop.safety.link_lost_after_ms)));
   f.push_back(integer("safety.overrun_storm_count", 1, 64, "overruns ...", RIG_AT(loop.safety.overrun_storm_count)));
   f.push_back(integer("safety.overrun_storm_window_cycles", 1, 100000, "... within this many cycles fault the loop", RIG_AT(loop.safety.overrun_storm_window_cycles)));
   f.push_back(number("safety.max_following_error_mm", 0.01, 50, "fault when the carriage lags its reference by more [mm]", RIG_AT(loop.safety.max_following_error_mm)));
@@ -111,7 +114,7 @@ void add_daq_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("daq.stop_bits", 1, 2, "Modbus RTU stop bits", RIG_AT(daq.modbus.stop_bits)));
   f.push_back(integer("daq.unit_id", 0, 247, "Modbus unit id", RIG_AT(daq.modbus.unit_id)));
   f.push_back(integer("daq.response_timeout_us", 50, 1000000, "reply time-out; keep below one loop period [us]", RIG_AT(daq.modbus.response_timeout_us)));
-  f.push_back(integer("daq.watchdog_ms", 0, 60000, "DAQ turns its outputs off after this silence [ms]", RIG_AT(daq.modbus.watchdog_ms)));
+  f.push_back(integer("daq.watchdog_ms", 1, 1000, "DAQ turns its outputs off after this silence [ms] (never off: it is the last line of defence when rigd dies)", RIG_AT(daq.modbus.watchdog_ms)));
   f.push_back(integer("daq.usb_vendor_id", 0, 65535, "USB DAQ vendor id", RIG_AT(daq.usb_vendor_id)));
   f.push_back(integer("daq.usb_product_id", 0, 65535, "USB DAQ product id", RIG_AT(daq.usb_product_id)));
 }
@@ -147,6 +150,7 @@ void add_service_fields(std::vector<ConfigField>& f) {
   f.push_back(path("api.token_file", "file holding the API token (mode 0600)", RIG_AT(api.token_file)));
   f.push_back(path("api.web_root", "directory of the overlay page", RIG_AT(api.web_root)));
   f.push_back(integer("api.max_body_bytes", 256, 16777216, "largest request body [B]", RIG_AT(api.max_body_bytes)));
+  f.push_back(text("api.allowed_origins", {}, "comma-separated origins (http[s]://host[:port]) of pages that may command rigd besides its own", RIG_AT(api.allowed_origins)));
   f.push_back(integer("api.max_clients", 1, 1024, "concurrent connections", RIG_AT(api.max_clients)));
   f.push_back(integer("stream.batch_ms", 5, 1000, "live stream batch period [ms]", RIG_AT(stream.batch_ms)));
   f.push_back(boolean("stream.udp_enabled", "PlotJuggler UDP JSON stream", RIG_AT(stream.udp_enabled)));

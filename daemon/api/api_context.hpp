@@ -7,6 +7,7 @@
 #include <string>
 
 #include "auth.hpp"
+#include "request_guard.hpp"
 #include "loop_channels.hpp"
 #include "rig/config/rigd_config.hpp"
 #include "stream_hub.hpp"
@@ -17,10 +18,13 @@ struct ApiCounters {
   std::atomic<std::uint64_t> http_requests{0};
   std::atomic<std::uint64_t> refused_unauthorized{0};
   std::atomic<std::uint64_t> refused_invalid{0};
+  std::atomic<std::uint64_t> refused_cross_site{0};
+  std::atomic<std::uint64_t> handler_exceptions{0};  // caught at the I/O thread's top  // Host / Origin / Content-Type guard
   std::atomic<std::int64_t> ws_clients{0};
   std::atomic<std::uint64_t> ws_messages_sent{0};
   std::atomic<std::uint64_t> ws_messages_dropped{0};  // slow clients: oldest batches dropped
   std::atomic<std::int64_t> open_connections{0};
+  std::atomic<std::int64_t> safety_only_connections{0};  // over api.max_clients: stop / e-stop only
 };
 
 class LabService;      // model lab requests (non-RT worker), optional
@@ -35,6 +39,7 @@ struct ApiContext {
   bool realtime = false;
   std::string version;
   ApiAuth auth{std::nullopt};
+  RequestGuard guard{"", ""};  // CSRF / DNS-rebinding checks (request_guard.hpp)
   ApiCounters counters;
   std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
 };

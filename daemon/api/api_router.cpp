@@ -9,9 +9,10 @@
 #include <regex>
 #include <sstream>
 
+#include "archive_endpoints.hpp"
 #include "haptic_control.hpp"
+#include "model_lint.hpp"
 #include "lab_service.hpp"
-#include "run_csv.hpp"
 #include "sqlite_handle.hpp"
 #include "status_view.hpp"
 
@@ -61,12 +62,11 @@ Response error_response(const Request& request, http::status status, const std::
   return make_response(request, status, nlohmann::json(reply).dump());
 }
 
-ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context) : io_(&io), context_(&context) {}
+ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context)
+    : io_(&io), context_(&context), archive_(std::make_unique<ArchiveEndpoints>(io, context)) {}
 
-archive::Archive& ApiRouter::archive() {
-  if (!archive_) archive_ = std::make_unique<archive::Archive>(context_->config->archive.path);
-  return *archive_;
-}
+ApiRouter::~ApiRouter() = default;
+
 
 void ApiRouter::handle(const Request& request, Responder respond) {
   context_->counters.http_requests.fetch_add(1);
@@ -74,8 +74,15 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   const bool get = request.method() == http::verb::get;
   const bool post = request.method() == http::verb::post;
   // Stopping is never refused: not for want of a token either.
-  const bool safe_command = post && (path == "/api/stop" || path == "/api/estop" || path == "/api/haptic/stop");
+  const bool safe_command = is_safety_request(request);  // request_guard.hpp
   const bool static_file = get && path.rfind("/api/", 0) != 0 && path != "/metrics";
+  if (!safe_command) {
+    if (const auto why = context_->guard.refusal(request, !get && request.method() != http::verb::head)) {
+      context_->counters.refused_cross_site.fetch_add(1);
+      spdlog::warn("api: refused {} {}: {}", std::string(request.method_string()), path, *why);
+      return respond(error_response(request, http::status::forbidden, *why));
+    }
+  }
   if (!static_file && !safe_command && !context_->auth.authorized(request)) {
     context_->counters.refused_unauthorized.fetch_add(1);
     spdlog::warn("api: refused {} {} without a valid token", std::string(request.method_string()), path);
@@ -87,8 +94,8 @@ void ApiRouter::handle(const Request& request, Responder respond) {
     std::smatch m;
     if (get && path == "/api/status") return respond(make_response(request, http::status::ok, status_json(*context_)));
     if (get && path == "/metrics") return respond(make_response(request, http::status::ok, prometheus_metrics(*context_), "text/plain; version=0.0.4"));
-    if (get && path == "/api/runs") return get_runs(request, respond);
-    if (get && std::regex_match(path, m, kRunPath)) return get_run(request, std::stoll(m[1].str()), m[2].str(), respond);
+    if (get && path == "/api/runs") return archive_->get_runs(request, respond);
+    if (get && std::regex_match(path, m, kRunPath)) return archive_->get_run(request, std::stoll(m[1].str()), m[2].str(), respond);
     if (path == "/api/model" && (get || post)) return model(request, respond);
     if (post && path.rfind("/api/lab/", 0) == 0) return lab(request, path.substr(9), respond);
     if ((get || post) && (path == "/api/haptic" || path == "/api/haptic/stop")) return haptic(request, path, respond);
@@ -191,73 +198,17 @@ void ApiRouter::post_run(const Request& request, bool start, Responder respond) 
   row.software_version = context_->version;
   row.surface_mm = context_->config->loop.motion.surface_mm;
   row.rate_hz = context_->config->loop.rate_hz;
-  const std::int64_t run_id = archive().create_run(row);
-  rt::Command command;
-  command.kind = rt::CommandKind::kArm;
-  command.id = next_command_id_++;
-  command.params = {run.iop_mmHg, run.velocity_mm_s, run.depth_mm, row.hold_s, start && run.start.value_or(true), run_id};
-  send_command(request, command, std::move(respond), [this, run_id](rt::CommandResult result) {
-    if (result != rt::CommandResult::kAccepted) archive().finish_run(run_id, "cancelled", std::string(rt::to_string(result)));
-  });
-}
-
-void ApiRouter::get_runs(const Request& request, Responder respond) {
-  proto::RunList list;
-  for (const auto& row : archive().list_runs()) {
-    proto::RunSummary s;
-    s.run_id = row.id;
-    s.eye_id = row.eye_id;
-    s.iop_mmHg = row.iop_mmHg;
-    s.velocity_mm_s = row.velocity_mm_s;
-    s.depth_mm = row.depth_mm;
-    s.started_at = row.started_at;
-    if (!row.ended_at.empty()) s.ended_at = row.ended_at;
-    s.outcome = row.outcome;
-    if (!row.reason.empty()) s.reason = row.reason;
-    s.samples = row.samples;
-    s.source = row.source;
-    list.runs.push_back(std::move(s));
-  }
-  respond(make_response(request, http::status::ok, nlohmann::json(list).dump()));
-}
-
-void ApiRouter::get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond) {
-  const auto row = archive().find_run(run_id);
-  if (!row) return respond(error_response(request, http::status::not_found, "no run " + std::to_string(run_id)));
-  if (what == "/csv") {
-    std::ostringstream csv;
-    model::write_run_csv(archive().load_run(run_id), csv);
-    Response response = make_response(request, http::status::ok, csv.str(), "text/csv");
-    response.set(http::field::content_disposition, "attachment; filename=\"run-" + std::to_string(run_id) + ".csv\"");
-    response.prepare_payload();
-    return respond(std::move(response));
-  }
-  if (what == "/samples") {  // the page's replay of an archived run, decimated to <= 5000 points
-    const model::RunData run = archive().load_run(run_id);
-    const std::size_t step = std::max<std::size_t>(1, run.size() / 5000);
-    nlohmann::json j = {{"run_id", run_id}, {"t_s", nlohmann::json::array()}, {"x_mm", nlohmann::json::array()}, {"force_N", nlohmann::json::array()}};
-    for (std::size_t i = 0; i < run.size(); i += step) {
-      j["t_s"].push_back(run.t_s[i]);
-      j["x_mm"].push_back(run.x_mm[i]);
-      j["force_N"].push_back(run.force_N[i]);
-    }
-    return respond(make_response(request, http::status::ok, j.dump()));
-  }
-  proto::RunDetail detail;
-  detail.run.run_id = row->id;
-  detail.run.eye_id = row->eye_id;
-  detail.run.iop_mmHg = row->iop_mmHg;
-  detail.run.velocity_mm_s = row->velocity_mm_s;
-  detail.run.depth_mm = row->depth_mm;
-  detail.run.started_at = row->started_at;
-  if (!row->ended_at.empty()) detail.run.ended_at = row->ended_at;
-  detail.run.outcome = row->outcome;
-  if (!row->reason.empty()) detail.run.reason = row->reason;
-  detail.run.samples = row->samples;
-  detail.run.source = row->source;
-  for (const auto& [k, v] : archive().run_meta(run_id)) detail.meta[k] = v;
-  for (const auto& e : archive().run_events(run_id)) detail.events.push_back({e.t_s, e.kind, e.message});
-  respond(make_response(request, http::status::ok, nlohmann::json(detail).dump()));
+  const proto::RunRequest accepted = run;
+  archive_->create_run(request, std::move(row), [this, request, respond, accepted, start](std::int64_t run_id) {
+    rt::Command command;
+    command.kind = rt::CommandKind::kArm;
+    command.id = next_command_id_++;
+    command.params = {accepted.iop_mmHg, accepted.velocity_mm_s, accepted.depth_mm, accepted.hold_s.value_or(0.0),
+                      start && accepted.start.value_or(true), run_id};
+    send_command(request, command, respond, [this, run_id](rt::CommandResult result) {
+      if (result != rt::CommandResult::kAccepted) archive_->discard_refused_run(run_id, std::string(rt::to_string(result)));
+    });
+  }, respond);
 }
 
 void ApiRouter::model(const Request& request, Responder respond) {
@@ -265,6 +216,8 @@ void ApiRouter::model(const Request& request, Responder respond) {
     const proto::ModelSelect select = parse_body(request).get<proto::ModelSelect>();
     try {
       auto loaded = std::make_shared<const model::ForceModel>(model::ForceModel::load(select.file));
+      // A printed-form file is drawn as printed (never as our reading), and said so.
+      if (loaded->form == model::ModelForm::kPrinted) spdlog::warn("api: {}", model::printed_form_warning(*loaded));
       context_->hub->set_model(std::move(loaded));
       spdlog::info("api: live model is now {}", select.file);
     } catch (const std::exception& e) {

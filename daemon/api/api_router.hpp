@@ -1,20 +1,22 @@
 #pragma once
 // Routes HTTP requests to handlers. Handlers that need the RT loop's answer (commands) or
-// the lab's worker answer asynchronously through the Responder; nothing here blocks the
-// I/O thread for longer than an SQLite read.
+// the lab's worker answer asynchronously through the Responder; archive work runs on its
+// own thread (archive_endpoints.hpp): nothing here blocks the I/O thread.
 #include <boost/asio/io_context.hpp>
 
 #include <memory>
 
 #include "api_context.hpp"
-#include "archive.hpp"
 #include "http_types.hpp"
 
 namespace rig::api {
 
+class ArchiveEndpoints;
+
 class ApiRouter {
  public:
   ApiRouter(boost::asio::io_context& io, ApiContext& context);
+  ~ApiRouter();
   void handle(const Request& request, Responder respond);
 
  private:
@@ -22,16 +24,13 @@ class ApiRouter {
   void post_run(const Request& request, bool start, Responder respond);
   void send_command(const Request& request, const rt::Command& command, Responder respond,
                     std::function<void(rt::CommandResult)> on_answer = {});
-  void get_runs(const Request& request, Responder respond);
-  void get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond);
   void model(const Request& request, Responder respond);
   void lab(const Request& request, const std::string& action, Responder respond);
   void haptic(const Request& request, const std::string& path, Responder respond);
-  archive::Archive& archive();
 
   boost::asio::io_context* io_;
   ApiContext* context_;
-  std::unique_ptr<archive::Archive> archive_;
+  std::unique_ptr<ArchiveEndpoints> archive_;  // run lists, exports, run rows: off the I/O thread
   std::uint64_t next_command_id_ = 1'000'000;  // distinct from other senders' ids
 };
 

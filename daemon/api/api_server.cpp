@@ -21,7 +21,25 @@ ApiServer::~ApiServer() { stop(); }
 
 void ApiServer::start() {
   accept();
-  thread_ = std::thread([this] { io_.run(); });
+  thread_ = std::thread([this] { run_guarded(); });
+}
+
+// A handler that throws must not take rigd (and with it the RT loop's supervisor) down:
+// log it, count it, and keep serving. io_context::run rethrows a handler's exception and
+// can be called again after it.
+void ApiServer::run_guarded() {
+  for (;;) {
+    try {
+      io_.run();
+      return;  // stopped
+    } catch (const std::exception& e) {
+      context_->counters.handler_exceptions.fetch_add(1);
+      spdlog::error("api: a request handler failed: {} (the API keeps serving)", e.what());
+    } catch (...) {
+      context_->counters.handler_exceptions.fetch_add(1);
+      spdlog::error("api: a request handler failed with an unknown exception (the API keeps serving)");
+    }
+  }
 }
 
 void ApiServer::stop() {
@@ -33,11 +51,17 @@ void ApiServer::stop() {
 void ApiServer::accept() {
   acceptor_.async_accept([this](boost::system::error_code ec, boost::asio::ip::tcp::socket socket) {
     if (!ec) {
-      if (context_->counters.open_connections.load() + context_->counters.ws_clients.load() >= context_->config->api.max_clients) {
-        spdlog::warn("api: connection refused, {} clients already", context_->counters.open_connections.load());
-        socket.close();  // at the limit: refuse rather than starve the others
+      const auto& n = context_->counters;
+      const bool full = n.open_connections.load() - n.safety_only_connections.load() + n.ws_clients.load() >= context_->config->api.max_clients;
+      if (!full) {
+        std::make_shared<HttpSession>(std::move(socket), *this, false)->run();
+      } else if (n.safety_only_connections.load() < kSafetyOnlyConnections) {
+        // At the limit a connection still gets in, to be served stop / e-stop only: idle or
+        // streaming clients can never lock out making the rig safe.
+        std::make_shared<HttpSession>(std::move(socket), *this, true)->run();
       } else {
-        std::make_shared<HttpSession>(std::move(socket), *this)->run();
+        spdlog::warn("api: connection refused, {} clients already", n.open_connections.load());
+        socket.close();
       }
     }
     if (acceptor_.is_open()) accept();

@@ -23,6 +23,8 @@ class ApiServer final : public service::StreamSink {
   ~ApiServer() override;
   void start();
   void stop();
+  // Connections beyond api.max_clients that are still read, for stop / e-stop only.
+  static constexpr int kSafetyOnlyConnections = 64;
   int port() const { return port_; }
 
   void publish(std::shared_ptr<const std::string> message) override;
@@ -36,6 +38,7 @@ class ApiServer final : public service::StreamSink {
 
  private:
   void accept();
+  void run_guarded();
 
   ApiContext* context_;
   boost::asio::io_context io_;

@@ -3,6 +3,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -17,13 +18,30 @@ bool constant_time_equal(const std::string& a, const std::string& b) {
   return diff == 0;
 }
 
+// The page URL-encodes the token (a base64 token has '+', '/', '='); '+' stays '+' here
+// because encodeURIComponent never produces it for a space.
+std::string percent_decoded(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '%' && i + 2 < text.size() && std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 2]))) {
+      out.push_back(static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16)));
+      i += 2;
+    } else {
+      out.push_back(text[i]);
+    }
+  }
+  return out;
+}
+
 std::string query_token(const std::string& target) {
   const auto q = target.find('?');
   if (q == std::string::npos) return {};
   std::istringstream query(target.substr(q + 1));
   std::string pair;
   while (std::getline(query, pair, '&')) {
-    if (pair.rfind("token=", 0) == 0) return pair.substr(6);
+    if (pair.rfind("token=", 0) == 0) return percent_decoded(pair.substr(6));
   }
   return {};
 }

@@ -1,5 +1,7 @@
 #include "sessions.hpp"
 
+#include "request_guard.hpp"
+
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -8,12 +10,16 @@ namespace rig::api {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server)
-    : stream_(std::move(socket)), server_(&server) {
+HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, bool safety_only)
+    : stream_(std::move(socket)), server_(&server), safety_only_(safety_only) {
   server_->context().counters.open_connections.fetch_add(1);
+  if (safety_only_) server_->context().counters.safety_only_connections.fetch_add(1);
 }
 
-HttpSession::~HttpSession() { server_->context().counters.open_connections.fetch_sub(1); }
+HttpSession::~HttpSession() {
+  server_->context().counters.open_connections.fetch_sub(1);
+  if (safety_only_) server_->context().counters.safety_only_connections.fetch_sub(1);
+}
 
 void HttpSession::run() { read(); }
 
@@ -21,7 +27,7 @@ void HttpSession::read() {
   parser_.emplace();
   parser_->body_limit(static_cast<std::uint64_t>(server_->context().config->api.max_body_bytes));
   parser_->header_limit(16 * 1024);
-  stream_.expires_after(std::chrono::seconds(15));  // a silent client is dropped
+  stream_.expires_after(std::chrono::seconds(safety_only_ ? 2 : 15));  // a silent client is dropped
   http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
 }
 
@@ -37,8 +43,19 @@ void HttpSession::on_read(beast::error_code ec) {
   }
   if (ec) return;
   Request request = parser_->release();
+  if (safety_only_ && !is_safety_request(request)) {
+    request.keep_alive(false);
+    return send(error_response(request, http::status::service_unavailable,
+                               "rigd is serving api.max_clients connections: only stop and e-stop are answered now"));
+  }
+  if (safety_only_) request.keep_alive(false);
   const std::string target(request.target());
   if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws") {
+    if (const auto why = server_->context().guard.upgrade_refusal(request)) {
+      server_->context().counters.refused_cross_site.fetch_add(1);
+      spdlog::warn("api: refused a WebSocket upgrade: {}", *why);
+      return send(error_response(request, http::status::forbidden, *why));
+    }
     if (!server_->context().auth.authorized(request)) {
       server_->context().counters.refused_unauthorized.fetch_add(1);
       return send(error_response(request, http::status::unauthorized, "a valid API token is required"));

@@ -16,7 +16,9 @@ namespace rig::api {
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server);
+  // safety_only: a connection beyond api.max_clients, served stop / e-stop only, read
+  // with a short time-out and closed after one answer.
+  HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, bool safety_only);
   ~HttpSession();
   void run();
 
@@ -29,6 +31,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   boost::beast::flat_buffer buffer_;
   std::optional<http::request_parser<http::string_body>> parser_;
   ApiServer* server_;
+  bool safety_only_;
 };
 
 class WsSession : public std::enable_shared_from_this<WsSession> {

@@ -68,12 +68,17 @@ std::string prometheus_metrics(ApiContext& c) {
   counter("rigd_loop_overruns_total", "cycles that ended after the next deadline", static_cast<double>(n.overruns.load()));
   counter("rigd_loop_missed_cycles_total", "deadlines skipped after overruns", static_cast<double>(n.missed_cycles.load()));
   counter("rigd_daq_misses_total", "failed DAQ reads", static_cast<double>(n.io_misses.load()));
+  counter("rigd_loop_late_wakes_total", "cycles begun more than half a period late", static_cast<double>(n.late_wakes.load()));
+  counter("rigd_daq_misses_late_wake_total", "failed DAQ reads in late cycles (not held against the link)",
+          static_cast<double>(n.late_wake_misses.load()));
   counter("rigd_recorder_drops_total", "samples the recorder could not take (faults the run)", static_cast<double>(n.recorder_drops.load()));
   counter("rigd_stream_ring_drops_total", "samples dropped before the stream hub", static_cast<double>(n.stream_drops.load()));
   counter("rigd_stream_messages_dropped_total", "WebSocket messages dropped for slow clients", static_cast<double>(c.counters.ws_messages_dropped.load()));
   counter("rigd_stream_messages_sent_total", "WebSocket messages sent", static_cast<double>(c.counters.ws_messages_sent.load()));
   counter("rigd_http_requests_total", "HTTP requests", static_cast<double>(c.counters.http_requests.load()));
   counter("rigd_http_unauthorized_total", "requests refused for a missing or wrong token", static_cast<double>(c.counters.refused_unauthorized.load()));
+  counter("rigd_http_cross_site_refused_total", "requests refused by the Host / Origin / Content-Type guard", static_cast<double>(c.counters.refused_cross_site.load()));
+  counter("rigd_api_handler_exceptions_total", "request handlers that threw past their own error handling", static_cast<double>(c.counters.handler_exceptions.load()));
   gauge("rigd_stream_clients", "connected WebSocket clients", static_cast<double>(c.counters.ws_clients.load()));
   gauge("rigd_force_newtons", "tared force", st.force_N);
   gauge("rigd_position_mm", "carriage position", st.position_mm);

@@ -86,6 +86,25 @@ void Archive::mark_started(std::int64_t run_id) {
   db_.prepare("UPDATE runs SET outcome='recording', started_at=? WHERE id=?").bind(1, utc_now_iso8601()).bind(2, run_id).run();
 }
 
+void Archive::discard_unstarted_run(std::int64_t run_id) {
+  begin();
+  try {
+    Statement q = db_.prepare(
+        "SELECT COUNT(*) FROM runs WHERE id=? AND outcome='armed' AND NOT EXISTS (SELECT 1 FROM samples WHERE run_id=?)");
+    q.bind(1, run_id).bind(2, run_id);
+    const bool unstarted = q.step() && q.integer(0) == 1;
+    q.reset();
+    if (unstarted) {
+      db_.prepare("DELETE FROM run_meta WHERE run_id=?").bind(1, run_id).run();
+      db_.prepare("DELETE FROM runs WHERE id=?").bind(1, run_id).run();
+    }
+    commit();
+  } catch (...) {
+    rollback();
+    throw;
+  }
+}
+
 void Archive::finish_run(std::int64_t run_id, const std::string& outcome, const std::string& reason) {
   db_.prepare("UPDATE runs SET outcome=?, reason=?, ended_at=? WHERE id=?")
       .bind(1, outcome).bind(2, reason).bind(3, utc_now_iso8601()).bind(4, run_id).run();
@@ -99,7 +118,9 @@ int Archive::recover_interrupted() {
       finish_run(row.id, "interrupted", "rigd stopped while recording; samples up to the last commit are kept");
       ++count;
     } else if (row.outcome == "armed") {
-      finish_run(row.id, "cancelled", "rigd stopped before the cut started");
+      // Killed while armed: the run was interrupted by the crash, not cancelled by anyone.
+      finish_run(row.id, "interrupted", "rigd stopped before the cut started");
+      ++count;
     }
   }
   return count;

@@ -72,6 +72,8 @@ class Archive {
   std::int64_t create_run(const NewRun& run);
   void mark_started(std::int64_t run_id);
   void finish_run(std::int64_t run_id, const std::string& outcome, const std::string& reason);
+  // A run the loop refused to arm: its row (still 'armed', no sample) and metadata go.
+  void discard_unstarted_run(std::int64_t run_id);
   int recover_interrupted();
 
   void begin();

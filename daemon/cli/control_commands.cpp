@@ -55,6 +55,59 @@ int send_command(const CliContext& c, const std::string& name) {
   return reply.status == 200 ? 0 : 1;
 }
 
+// Polls the status until the rig leaves Homing; false (with the status in `last`) on time-out.
+bool wait_while_homing(const CliContext& c, double timeout_s, nlohmann::json& last) {
+  const ApiClient client = c.client();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  while (true) {
+    last = parse_reply(client.get("/api/status"), "status");
+    if (last["state"] != "Homing") return true;
+    if (std::chrono::steady_clock::now() >= end) return false;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+constexpr double kHomingTimeout_s = 120.0;  // 60 mm of travel at the slowest homing speed, and back
+
+// Taring averages safety.tare_cycles readings (0.5 s): a `rig run` right after must find it done.
+bool wait_until_tared(const CliContext& c) {
+  const ApiClient client = c.client();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < end) {
+    const nlohmann::json s = parse_reply(client.get("/api/status"), "status");
+    if (s["tared"] == true && s["taring"] != true) return true;
+    if (s["state"] == "Fault" || s["state"] == "EStop") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  std::cerr << "tare: the load cell was not tared within 10 s\n";
+  return false;
+}
+
+int home_rig(const CliContext& c, bool wait) {
+  if (!wait) return send_command(c, "home");
+  const HttpReply reply = c.client().post("/api/home");
+  const nlohmann::json j = parse_reply(reply, "home");
+  if (reply.status != 200) {
+    std::cerr << "home: " << (j.contains("error") ? j["error"].get<std::string>() : j.value("result", "refused")) << "\n";
+    return 1;
+  }
+  if (!c.json()) std::cerr << "home: homing (waits until parked; --no-wait returns at once)\n";
+  nlohmann::json s;
+  if (!wait_while_homing(c, kHomingTimeout_s, s)) {
+    std::cerr << "home: still homing after " << kHomingTimeout_s << " s (position " << fixed(s["position_mm"], 2) << " mm)\n";
+    return 1;
+  }
+  const bool parked = s["state"] == "Ready" && s["homed"] == true;
+  if (c.json()) {
+    std::cout << s.dump() << "\n";
+  } else if (parked) {
+    std::cout << "home: parked at " << fixed(s["position_mm"], 2) << " mm (state Ready)\n";
+  } else {
+    std::cerr << "home: ended in " << s["state"].get<std::string>() << (s["fault"] != "none" ? ": " + s["fault"].get<std::string>() : "") << "\n";
+  }
+  return parked ? 0 : 1;
+}
+
 int list_runs(const CliContext& c) {
   const HttpReply reply = c.client().get("/api/runs");
   const nlohmann::json j = parse_reply(reply, "runs");
@@ -126,6 +179,15 @@ int run_cut(const CliContext& c, RunOptions& o, bool start) {
     if (!r.meta) r.meta.emplace();
     (*r.meta)[kv.substr(0, eq)] = kv.substr(eq + 1);
   }
+  // A run asked for while the rig is still homing waits for the carriage to park, then starts.
+  nlohmann::json before = parse_reply(c.client().get("/api/status"), "status");
+  if (before["state"] == "Homing") {
+    if (!c.json()) std::cerr << "run: waiting for homing to finish (carriage at " << fixed(before["position_mm"], 2) << " mm)\n";
+    if (!wait_while_homing(c, kHomingTimeout_s, before)) {
+      std::cerr << "run: still homing after " << kHomingTimeout_s << " s; not started\n";
+      return 1;
+    }
+  }
   const HttpReply reply = c.client().post(start ? "/api/run" : "/api/arm", nlohmann::json(r).dump());
   const nlohmann::json j = parse_reply(reply, "run");
   if (reply.status != 200) {
@@ -152,8 +214,15 @@ int run_cut(const CliContext& c, RunOptions& o, bool start) {
 
 void add_control_commands(CLI::App& app, CliContext& c, int& exit_code) {
   app.add_subcommand("status", "state, interlocks, sensors and loop timing")->callback([&] { exit_code = show_status(c); });
+  auto home_no_wait = std::make_shared<bool>(false);
+  CLI::App* home = app.add_subcommand("home", "find the home switch and park the carriage; returns once parked");
+  home->add_flag("--no-wait", *home_no_wait, "return as soon as homing has started");
+  home->callback([&c, &exit_code, home_no_wait] { exit_code = home_rig(c, !*home_no_wait); });
+  app.add_subcommand("tare", "zero the load cell (no load on the keratome); returns once tared")->callback([&c, &exit_code] {
+    exit_code = send_command(c, "tare");
+    if (exit_code == 0 && !wait_until_tared(c)) exit_code = 1;
+  });
   for (const auto& [name, help] : std::vector<std::pair<std::string, std::string>>{
-           {"home", "find the home switch and park the carriage"}, {"tare", "zero the load cell (no load on the keratome)"},
            {"start", "start an armed run"}, {"stop", "stop motion now; a running cut ends as 'stopped'"},
            {"estop", "software e-stop (latched until reset)"}, {"reset", "leave Fault or EStop (home again afterwards)"}}) {
     app.add_subcommand(name, help)->callback([&c, &exit_code, n = name] { exit_code = send_command(c, n); });

@@ -94,6 +94,7 @@ nlohmann::json summarize(const CliContext& c, const ApiClient& api, std::int64_t
                       {"velocity_error_pct", s.velocity_error_pct}, {"peak_force_N", s.peak_force_N},
                       {"x_at_peak_mm", s.x_at_peak_mm}, {"max_depth_mm", s.max_depth_mm},
                       {"loop_jitter_p99_us", status["loop"]["jitter_p99_us"]}, {"loop_overruns", status["loop"]["overruns"]},
+                      {"daq_misses", status["loop"]["io_misses"]},
                       {"realtime", status["loop"]["realtime"]}, {"overlay_url", api.url() + "/"}};
   if (s.model_rmse_N) {
     j["model_rmse_N"] = *s.model_rmse_N;
@@ -140,12 +141,14 @@ int run_demo(const CliContext& c, const DemoOptions& o) {
   else print_summary(summary);
   std::cout.flush();
   if (!o.once) {
-    std::cerr << "[demo] live overlay at " << api.url() << "/  (runs stay in " << archive_path << "); Ctrl-C to stop" << std::endl;
+    // Block Ctrl-C before saying it stops the demo: one pressed right after the line must
+    // end the demo the orderly way, not kill it.
     sigset_t signals;
     sigemptyset(&signals);
     sigaddset(&signals, SIGINT);
     sigaddset(&signals, SIGTERM);
     pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+    std::cerr << "[demo] live overlay at " << api.url() << "/  (runs stay in " << archive_path << "); Ctrl-C to stop" << std::endl;
     int signal = 0;
     sigwait(&signals, &signal);
   }

@@ -15,6 +15,9 @@
 int main(int argc, char** argv) {
   CLI::App app{"rig: run incision tests on the keratome rig, analyse them with the model lab, feel them on the Phantom"};
   app.require_subcommand(1);
+  // Global options may come before or after the subcommand (`rig demo --once --format json`):
+  // options a subcommand does not know fall through to this parent.
+  app.fallthrough();
   rig::cli::CliContext context;
   if (const char* api = std::getenv("RIG_API")) context.api_url = api;
   if (const char* archive = std::getenv("RIG_ARCHIVE")) context.archive_path = archive;

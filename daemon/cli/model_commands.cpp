@@ -7,11 +7,16 @@
 #include <sstream>
 
 #include "comparison.hpp"
+#include "data_checks.hpp"
 #include "diagnosis.hpp"
+#include "explanation_json.hpp"
 #include "html_report.hpp"
 #include "lab_json.hpp"
 #include "model_fit.hpp"
 #include "model_lint.hpp"
+#include "residual_explainer.hpp"
+#include "report/lab_views.hpp"
+#include "report/report_file.hpp"
 #include "run_loader.hpp"
 
 namespace rig::cli {
@@ -27,6 +32,10 @@ struct LabOptions {
   std::vector<std::string> only;
   bool refit = false;
   bool per_run = false;
+  std::vector<std::string> terms;  // term files: user terms offered as candidates
+  std::string save_term;
+  std::string term_name = "explained";
+  int max_features = 4;
 };
 
 std::vector<std::string> split_commas(const std::vector<std::string>& items) {
@@ -49,6 +58,25 @@ void metrics_table(const std::vector<model::SegmentMetrics>& list) {
   print_table({"segment", "n", "SSE N^2", "R^2", "RMSE N", "max N", "at x mm"}, rows);
 }
 
+// The model file, with the user terms of the --terms files offered as candidates.
+model::ForceModel load_model(const LabOptions& o) {
+  model::ForceModel m = model::ForceModel::load(default_model_file(o.model));
+  for (const std::string& file : o.terms) {
+    for (model::UserTerm& term : model::load_user_terms(file)) m.candidate_terms.push_back(std::move(term));
+  }
+  return m;
+}
+
+// Renders the report completely before anything is written, then writes it atomically: an
+// error (assets missing, unwritable folder) leaves no file, or the old one untouched.
+void write_report(const std::string& path, const std::string& kind, const std::vector<model::RunData>& runs,
+                  const model::LabViews& views, const nlohmann::json& lab) {
+  const model::ReportAssets assets = model::find_report_assets(executable_dir());
+  model::ReportContent content{kind, &views.before, views.after ? &*views.after : nullptr, lab};
+  model::write_file_atomically(path, model::render_report(runs, content, assets));
+  std::cerr << "report written to " << path << "\n";
+}
+
 int lint(const CliContext& c, const std::string& file) {
   const model::ForceModel m = model::ForceModel::load(default_model_file(file));
   const auto findings = model::lint_model(m);
@@ -66,11 +94,13 @@ int lint(const CliContext& c, const std::string& file) {
 int compare(const CliContext& c, const LabOptions& o) {
   const model::ForceModel m = model::ForceModel::load(default_model_file(o.model));
   const auto runs = load_runs(o.paths, c.archive_path);
-  const model::Comparison cmp = model::compare(m, runs, o.refit);
-  if (!o.report.empty()) {
-    std::ofstream(o.report) << model::render_report(cmp, runs, model::find_uplot(executable_dir()));
-    std::cerr << "report written to " << o.report << "\n";
+  model::LabViews views = model::compare_views(m, runs, o.refit);
+  if (o.refit) {
+    for (auto& w : model::base_misfit_warnings(m, views.before)) views.before.warnings.push_back(std::move(w));
   }
+  const model::Comparison& cmp = views.before;
+  if (!o.report.empty()) write_report(o.report, "compare", runs, views, model::to_json(cmp));
+  for (const auto& w : cmp.warnings) std::cerr << "warning: " << w << "\n";
   if (c.json()) {
     std::cout << model::to_json(cmp).dump(2) << "\n";
     return 0;
@@ -94,12 +124,17 @@ int compare(const CliContext& c, const LabOptions& o) {
 }
 
 int diagnose(const CliContext& c, const LabOptions& o) {
-  const model::ForceModel m = model::ForceModel::load(default_model_file(o.model));
+  const model::ForceModel m = load_model(o);
   const auto runs = load_runs(o.paths, c.archive_path);
   model::DiagnoseOptions options;
   options.with = split_commas(o.with);
   options.only = split_commas(o.only);
-  const model::Diagnosis d = model::diagnose(m, runs, options);
+  model::require_fittable(m, "diagnose");
+  model::Diagnosis d = model::diagnose(m, runs, options);
+  // The refitted baseline: what the report plots, and whether Eq. 1 describes these data.
+  const model::LabViews views = model::diagnose_views(m, runs);
+  for (auto& w : model::base_misfit_warnings(m, views.before)) d.warnings.push_back(std::move(w));
+  if (!o.report.empty()) write_report(o.report, "diagnose", runs, views, model::to_json(d));
   if (c.json()) {
     std::cout << model::to_json(d).dump(2) << "\n";
     return 0;
@@ -128,9 +163,14 @@ int diagnose(const CliContext& c, const LabOptions& o) {
 }
 
 int fit(const CliContext& c, const LabOptions& o) {
-  const model::ForceModel m = model::ForceModel::load(default_model_file(o.model));
+  const model::ForceModel m = load_model(o);
   const auto runs = load_runs(o.paths, c.archive_path);
-  const model::FitReport f = model::fit_model(m, runs, split_commas(o.add), o.per_run);
+  model::require_fittable(m, "fit");
+  model::FitReport f = model::fit_model(m, runs, split_commas(o.add), o.per_run);
+  const model::LabViews views = model::fit_views(m, f.fitted, runs);
+  for (auto& w : model::base_misfit_warnings(m, views.before)) f.warnings.push_back(std::move(w));
+  if (!o.report.empty()) write_report(o.report, "fit", runs, views, model::to_json(f));
+  for (const auto& w : f.warnings) std::cerr << "warning: " << w << "\n";
   if (!o.save.empty()) {
     f.fitted.save(o.save);
     std::cerr << "model saved to " << o.save << "\n";
@@ -160,13 +200,63 @@ int fit(const CliContext& c, const LabOptions& o) {
     std::cout << "\n";
   }
   for (const auto& r : f.per_run) std::cout << "  per run " << r.label << ": RMSE " << fixed(r.rmse_N, 4) << " N\n";
+  for (const auto& w : f.warnings) std::cerr << "warning: " << w << "\n";
+  return 0;
+}
+
+void print_explanation(const std::string& model_name, const model::explainer::Explanation& e) {
+  std::cout << "baseline (" << model_name;
+  for (const auto& effect : e.base_effects) std::cout << " + " << effect;
+  std::cout << "): CV RMSE " << fixed(e.baseline_cv_rmse_N, 4) << " N, noise floor "
+            << fixed(e.noise_floor_N, 4) << " N\n" << e.library_size << " candidate features; held-out RMSE along the path:";
+  for (const auto& [size, rmse] : e.path) std::cout << "  " << size << ": " << fixed(rmse, 4) << " N";
+  std::cout << "\n\n";
+  if (!e.features.empty()) {
+    Rows rows;
+    for (const auto& f : e.features) rows.push_back({f.parameter, f.expression, f.gate, fixed(f.coefficient, 6), fixed(f.contribution_N, 4)});
+    print_table({"param", "feature", "phase", "coefficient", "RMS N"}, rows);
+    std::cout << "\nterm user:" << e.term.name << " = " << e.term.expression << "  (phase " << e.term.phase << ")\n";
+    std::cout << "predicted CV RMSE " << fixed(e.predicted_cv_rmse_N, 4) << " N (" << fixed(e.predicted_gain_pct, 1) << " % lower, "
+              << fixed(100.0 * e.runs_improved, 0) << " % of runs better)\n";
+  }
+  if (e.validated) {
+    std::cout << "fitted: CV RMSE " << fixed(e.after_cv_rmse_N, 4) << " N (" << fixed(e.after_gain_pct, 1) << " % lower, "
+              << fixed(e.after_cv_rmse_N / std::max(e.noise_floor_N, 1e-12), 2) << "x the noise floor);";
+    for (const auto& [k, v] : e.fitted.params) std::cout << " " << k << "=" << v;
+    std::cout << "\n";
+  }
+  std::cout << "\n" << (e.proposed ? "proposed: " : "nothing proposed: ") << e.summary << "\n";
+}
+
+int explain(const CliContext& c, const LabOptions& o) {
+  const model::ForceModel m = load_model(o);
+  const auto runs = load_runs(o.paths, c.archive_path);
+  model::explainer::ExplainOptions options;
+  options.with = split_commas(o.with);
+  options.term_name = o.term_name;
+  options.max_features = o.max_features;
+  const model::explainer::Explanation e = model::explainer::explain(m, runs, options);
+  if (c.json()) {
+    std::cout << model::explainer::to_json(e).dump(2) << "\n";
+  } else {
+    print_explanation(m.name, e);
+  }
+  if (!o.save_term.empty()) {
+    if (e.proposed) {
+      model::save_user_terms(o.save_term, {e.validated ? e.fitted : e.term});
+      std::cerr << "term saved to " << o.save_term << ": add it with  rig model fit PATH... --terms " << o.save_term << " --add user:" << e.term.name << "\n";
+    } else {
+      std::cerr << "nothing proposed: " << o.save_term << " not written\n";
+    }
+  }
+  for (const auto& w : e.warnings) std::cerr << "warning: " << w << "\n";
   return 0;
 }
 
 }  // namespace
 
 void add_model_commands(CLI::App& app, CliContext& c, int& exit_code) {
-  CLI::App* model = app.add_subcommand("model", "the model lab: lint, compare, diagnose, fit")->require_subcommand(1);
+  CLI::App* model = app.add_subcommand("model", "the model lab: lint, compare, diagnose, fit, explain")->require_subcommand(1);
   auto lint_file = std::make_shared<std::string>();
   CLI::App* lint_cmd = model->add_subcommand("lint", "report defects of a model file (discontinuities, missing values)");
   lint_cmd->add_option("model", *lint_file, "model file (default: the interpreted paper model)");
@@ -185,13 +275,25 @@ void add_model_commands(CLI::App& app, CliContext& c, int& exit_code) {
   common(diag);
   diag->add_option("--with", o->with, "effects already accepted (E1,E2): diagnose what remains");
   diag->add_option("--only", o->only, "consider only these candidates");
+  diag->add_option("--terms", o->terms, "term files: their user terms are candidates too");
+  diag->add_option("--report", o->report, "write a self-contained HTML report (residuals of the refitted baseline)");
   diag->callback([&c, &exit_code, o] { exit_code = diagnose(c, *o); });
   CLI::App* fit_cmd = model->add_subcommand("fit", "refit with added effects; before/after error per phase");
   common(fit_cmd);
   fit_cmd->add_option("--add", o->add, "effects to add: E1[,E2]");
   fit_cmd->add_option("--save", o->save, "save the fitted model file (for the overlay and the haptics)");
   fit_cmd->add_flag("--per-run", o->per_run, "also fit Eq. 1 to each run alone");
+  fit_cmd->add_option("--terms", o->terms, "term files whose user terms --add user:NAME may add");
+  fit_cmd->add_option("--report", o->report, "write a self-contained HTML report (before/after overlays)");
   fit_cmd->callback([&c, &exit_code, o] { exit_code = fit(c, *o); });
+  CLI::App* explain_cmd = model->add_subcommand("explain", "propose a closed-form user term for what the residuals still carry");
+  common(explain_cmd);
+  explain_cmd->add_option("--with", o->with, "effects already accepted (E1,E2): explain what remains");
+  explain_cmd->add_option("--terms", o->terms, "term files (their names are not reused)");
+  explain_cmd->add_option("--save-term", o->save_term, "write the proposed term to a term file");
+  explain_cmd->add_option("--name", o->term_name, "name of the proposed term (default: explained)");
+  explain_cmd->add_option("--max-features", o->max_features, "most features in the term")->check(CLI::Range(1, 12));
+  explain_cmd->callback([&c, &exit_code, o] { exit_code = explain(c, *o); });
 }
 
 }  // namespace rig::cli

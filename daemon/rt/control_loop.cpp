@@ -73,7 +73,39 @@ void ControlLoop::shut_down() noexcept {
   write_outputs(off);
 }
 
-void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns) noexcept {
+void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
+  const bool woke_late = latency_ns > period_ns_ / 2;
+  if (woke_late) ch_->counters.late_wakes.fetch_add(1, std::memory_order_relaxed);
+  if (in.io_ok || cycle_ == 0) last_valid_reply_ns_ = now_ns;
+  if (in.io_ok) {
+    consecutive_misses_ = 0;
+    unanswered_ns_ = 0;
+  } else {
+    ++consecutive_misses_;
+    ch_->counters.io_misses.fetch_add(1, std::memory_order_relaxed);
+    if (woke_late) {
+      // rigd asked late (its own overrun or a stall): the DAQ is not to blame for this cycle.
+      ch_->counters.late_wake_misses.fetch_add(1, std::memory_order_relaxed);
+    } else {
+      // The DAQ had the time since the previous request to answer (at most two periods).
+      unanswered_ns_ += std::min(static_cast<std::int64_t>(std::llround(in.dt_s * 1e9)), 2 * period_ns_);
+    }
+  }
+  in.consecutive_misses = consecutive_misses_;
+  in.unanswered_ms = static_cast<double>(unanswered_ns_) * 1e-6;
+  // A loop that is late again and again cannot excuse every miss: after four times as many
+  // failed requests as the limit holds periods, the link counts as lost all the same (the DAQ's
+  // watchdog has long stopped the motor). Counted in requests, not wall time: a VM stall that
+  // keeps both rigd and the DAQ off the CPU for 100 ms costs a few requests, not 100.
+  const double silent_ms = static_cast<double>(now_ns - last_valid_reply_ns_) * 1e-6;
+  const double period_ms = static_cast<double>(period_ns_) * 1e-6;
+  const int max_failed_requests = static_cast<int>(std::ceil(4.0 * s_.safety.link_lost_after_ms / period_ms));
+  in.link_lost = !in.io_ok && (in.unanswered_ms >= s_.safety.link_lost_after_ms - 1e-6 ||
+                               consecutive_misses_ >= max_failed_requests);
+  if (in.link_lost && in.unanswered_ms < s_.safety.link_lost_after_ms) in.unanswered_ms = silent_ms;
+}
+
+void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   in.t_s = static_cast<double>(now_ns - start_ns_) * 1e-9;
   in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, 10.0 * period_ns_ * 1e-9);
   previous_now_ns_ = now_ns;
@@ -85,13 +117,9 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns) noexcept {
   if (in.io_ok) {
     last_frame_ = frame;
     last_inputs_ = inputs;
-    consecutive_misses_ = 0;
-  } else {
-    ++consecutive_misses_;
-    ch_->counters.io_misses.fetch_add(1, std::memory_order_relaxed);
   }
+  judge_link(in, now_ns, latency_ns);
   const Calibration& cal = s_.calibration;
-  in.consecutive_misses = consecutive_misses_;
   in.inputs = last_inputs_;
   in.force_volts = last_frame_.force_volts;
   in.raw_force_N = cal.force.to_units(last_frame_.force_volts);
@@ -144,7 +172,7 @@ void ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
 
 void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   CycleInput in;
-  read_inputs(in, now_ns);
+  read_inputs(in, now_ns, latency_ns);
   drain_commands(in);
   const InterlockVerdict verdict = interlocks_.check(in, machine_, controller_.following_error_mm());
   if (verdict.code != FaultCode::kNone) machine_.fault(verdict.code, verdict.value, in);

@@ -44,7 +44,8 @@ class ControlLoop final : public EventSink {
   void start_timing() noexcept;
   void wait_and_cycle() noexcept;
   void cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept;
-  void read_inputs(CycleInput& in, std::int64_t now_ns) noexcept;
+  void read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
+  void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void drain_commands(const CycleInput& in) noexcept;
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
   void write_outputs(const drivers::DriveCommand& command) noexcept;
@@ -68,6 +69,8 @@ class ControlLoop final : public EventSink {
   bool arrived_ = false;
   bool overrun_storm_ = false;
   int consecutive_misses_ = 0;
+  std::int64_t unanswered_ns_ = 0;
+  std::int64_t last_valid_reply_ns_ = 0;  // on-time cycles without a valid reply since the last one [ns]
   double last_position_mm_ = 0.0;
   double velocity_mm_s_ = 0.0;
   drivers::AnalogFrame last_frame_{};

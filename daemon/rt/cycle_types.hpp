@@ -10,6 +10,8 @@ struct CycleInput {
   double dt_s = 0.001;          // since the previous cycle [s]
   bool io_ok = true;            // this cycle's reads succeeded
   int consecutive_misses = 0;   // failed DAQ reads in a row
+  double unanswered_ms = 0.0;   // on-time cycles without a valid DAQ reply, summed [ms]
+  bool link_lost = false;       // unanswered_ms reached safety.link_lost_after_ms
   double raw_position_mm = 0.0; // calibrated potentiometer, before the homing offset
   double position_mm = 0.0;     // carriage from home (valid once homed)
   double raw_force_N = 0.0;     // calibrated load cell, before tare

@@ -10,9 +10,7 @@ InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& 
   if (state == RunState::kEStop) return {};
   if (in.inputs.estop) return {FaultCode::kEstopInput, 1.0};
   if (state == RunState::kFault || !is_motion_state(state)) return {};  // at rest: reported, not faulted
-  if (in.consecutive_misses >= s_.safety.max_consecutive_misses) {
-    return {FaultCode::kLinkLost, static_cast<double>(in.consecutive_misses)};
-  }
+  if (in.link_lost) return {FaultCode::kLinkLost, in.unanswered_ms};
   return check_motion(in, machine, following_error_mm);
 }
 
@@ -36,7 +34,21 @@ InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMa
     return {FaultCode::kFollowingError, following_error_mm};
   }
   if (force_channel_stuck(in, machine)) return {FaultCode::kStuckForce, in.force_N};
+  if (iop_out_of_band(in, machine)) return {FaultCode::kIopOutOfRange, in.iop_mmHg};
   return {};
+}
+
+// A leak (a burst line, a torn eye) during the cut changes the tissue the blade meets: the
+// run would be measured at an unknown pressure. The regulator settled the IOP before the
+// cut started, so any lasting excursion from the target is a fault.
+bool Interlocks::iop_out_of_band(const CycleInput& in, const RunStateMachine& machine) noexcept {
+  if (machine.state() != RunState::kCutting) {
+    iop_out_of_band_s_ = 0.0;
+    return false;
+  }
+  const bool outside = std::abs(in.iop_mmHg - machine.params().iop_mmHg) > s_.iop.fault_band_mmHg;
+  iop_out_of_band_s_ = outside ? iop_out_of_band_s_ + in.dt_s : 0.0;
+  return iop_out_of_band_s_ * 1e3 >= s_.iop.fault_after_ms;
 }
 
 bool Interlocks::force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept {

@@ -22,10 +22,12 @@ class Interlocks {
   InterlockVerdict check_motion(const CycleInput& in, const RunStateMachine& machine,
                                 double following_error_mm) noexcept;
   bool force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept;
+  bool iop_out_of_band(const CycleInput& in, const RunStateMachine& machine) noexcept;
 
   LoopSettings s_;
   int identical_force_cycles_ = 0;
   double last_force_volts_ = 0.0;
+  double iop_out_of_band_s_ = 0.0;  // how long the IOP has been outside its band in this cut [s]
 };
 
 }  // namespace rig::rt

@@ -46,12 +46,15 @@ struct IopSettings {
   double settle_timeout_s = 20.0;
   double min_mmHg = 5.0;
   double max_mmHg = 40.0;
-  double fault_band_mmHg = 5.0;        // during a cut
+  double fault_band_mmHg = 5.0;        // during a cut ...
+  double fault_after_ms = 100.0;       // ... for this long [ms] (a pump step is not a leak)
 };
 
 struct SafetySettings {
   double force_limit_N = 2.0;
-  int max_consecutive_misses = 2;      // DAQ reads that may fail before the link is lost
+  // The link is lost after this much time without a valid DAQ reply, counted over the cycles
+  // in which rigd itself asked on time (a cycle rigd woke late for is its own overrun) [ms].
+  double link_lost_after_ms = 2.0;
   int overrun_storm_count = 5;         // overruns ...
   int overrun_storm_window_cycles = 100;  // ... within this many cycles = storm
   double max_following_error_mm = 1.0;

@@ -5,9 +5,11 @@
 
 #include "archive.hpp"
 #include "comparison.hpp"
+#include "data_checks.hpp"
 #include "diagnosis.hpp"
 #include "lab_json.hpp"
 #include "model_fit.hpp"
+#include "report/lab_views.hpp"
 
 namespace rig::service {
 namespace {
@@ -66,14 +68,28 @@ void LabWorker::execute(const Job& job) {
                                                 : (hub_->model() ? *hub_->model() : model::ForceModel::paper_interpreted());
     const std::vector<std::string> effects = job.request.effects.value_or(std::vector<std::string>{});
     nlohmann::json out;
+    // "series": the same plots as the CLI's --report (residual against depth by direction,
+    // in the hold, per-run small multiples; before/after for fit).
     if (job.action == "compare") {
-      out = model::to_json(model::compare(model, runs));
+      const model::LabViews views = model::compare_views(model, runs, false);
+      out = model::to_json(views.before);
+      out["series"] = model::views_series(runs, views);
     } else if (job.action == "diagnose") {
+      model::require_fittable(model, "diagnose");
       model::DiagnoseOptions options;
       options.with = effects;
-      out = model::to_json(model::diagnose(model, runs, options));
+      model::Diagnosis diagnosis = model::diagnose(model, runs, options);
+      const model::LabViews views = model::diagnose_views(model, runs);
+      for (auto& w : model::base_misfit_warnings(model, views.before)) diagnosis.warnings.push_back(std::move(w));
+      out = model::to_json(diagnosis);
+      out["series"] = model::views_series(runs, views);
     } else {
-      out = model::to_json(model::fit_model(model, runs, effects));
+      model::require_fittable(model, "fit");
+      model::FitReport fit = model::fit_model(model, runs, effects);
+      const model::LabViews views = model::fit_views(model, fit.fitted, runs);
+      for (auto& w : model::base_misfit_warnings(model, views.before)) fit.warnings.push_back(std::move(w));
+      out = model::to_json(fit);
+      out["series"] = model::views_series(runs, views);
     }
     job.done(200, out.dump());
   } catch (const std::invalid_argument& e) {

@@ -15,7 +15,7 @@ std::string describe_fault(rt::FaultCode code, double value) {
     case rt::FaultCode::kEndLimit:
     case rt::FaultCode::kHomeLimit: std::snprintf(detail, sizeof detail, " at %.2f mm", value); break;
     case rt::FaultCode::kFollowingError: std::snprintf(detail, sizeof detail, ": %.3f mm behind", value); break;
-    case rt::FaultCode::kLinkLost: std::snprintf(detail, sizeof detail, ": %.0f reads failed in a row", value); break;
+    case rt::FaultCode::kLinkLost: std::snprintf(detail, sizeof detail, ": no valid reply for %.0f ms", value); break;
     case rt::FaultCode::kIopNotSettled:
     case rt::FaultCode::kIopOutOfRange: std::snprintf(detail, sizeof detail, ": %.2f mmHg", value); break;
     case rt::FaultCode::kHomingFailed: std::snprintf(detail, sizeof detail, " after %.1f mm", value); break;

@@ -2,11 +2,14 @@
 
 #include <spdlog/spdlog.h>
 
+#include <unistd.h>
+
 #include <filesystem>
 
 #include "api_server.hpp"
 #include "camera_service.hpp"
 #include "haptic_service.hpp"
+#include "model_lint.hpp"
 #include "lab_worker.hpp"
 #include "camera/aravis_camera.hpp"
 #include "camera/v4l2_camera.hpp"
@@ -16,6 +19,7 @@
 #include "control_loop.hpp"
 #include "force_model.hpp"
 #include "modbus/modbus_daq.hpp"
+#include "clock/cpu_wake_latency_request.hpp"
 #include "clock/monotonic_clock.hpp"
 #include "recorder.hpp"
 #include "rt_thread.hpp"
@@ -25,6 +29,15 @@
 namespace rig::service {
 
 std::string software_version() { return RIGD_VERSION; }
+
+namespace {
+// This machine's name: a page reached as http://<hostname>:8080/ is rigd's own.
+std::string machine_host_name() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0) return {};
+  return name;
+}
+}  // namespace
 
 struct RigdApp::Parts {
   std::unique_ptr<drivers::ModbusDaq> daq;
@@ -45,6 +58,7 @@ struct RigdApp::Parts {
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
+  std::unique_ptr<drivers::CpuWakeLatencyRequest> wake_latency;
 };
 
 RigdApp::RigdApp(config::RigdConfig config) : config_(std::move(config)), parts_(std::make_unique<Parts>()) {}
@@ -102,11 +116,16 @@ void RigdApp::start_loop() {
   parts_->loop = std::make_unique<rt::ControlLoop>(config_.loop, hw, *parts_->channels);
   RtThreadReport memory = lock_process_memory(config_.thread.lock_memory);
   parts_->rt_report = memory;
+  parts_->wake_latency = std::make_unique<drivers::CpuWakeLatencyRequest>(config_.thread.cpu_wake_latency_us);
+  if (config_.thread.cpu_wake_latency_us >= 0 && !parts_->wake_latency->held()) {
+    parts_->rt_report.warnings.push_back(parts_->wake_latency->why_not() + ": idle CPUs may wake late for the loop and the DAQ");
+  }
   RtThreadOptions options{config_.thread.priority, config_.thread.cpu, config_.thread.lock_memory};
   rt_thread_ = start_rt_thread(options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
   for (const auto& warning : parts_->rt_report.warnings) spdlog::warn("RT: {}", warning);
-  spdlog::info("RT loop at {} Hz ({}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
-               parts_->rt_report.memory_locked ? ", memory locked" : "");
+  spdlog::info("RT loop at {} Hz ({}{}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
+               parts_->rt_report.memory_locked ? ", memory locked" : "",
+               parts_->wake_latency->held() ? ", CPU wake-up <= " + std::to_string(config_.thread.cpu_wake_latency_us) + " us" : "");
 }
 
 void RigdApp::start_services() {
@@ -115,7 +134,9 @@ void RigdApp::start_services() {
   parts_->recorder->start();
   parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm, config_.stream.batch_ms);
   try {
-    parts_->hub->set_model(std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file)));
+    auto overlay = std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file));
+    if (overlay->form == model::ModelForm::kPrinted) spdlog::warn("model: {}", model::printed_form_warning(*overlay));
+    parts_->hub->set_model(std::move(overlay));
   } catch (const std::exception& e) {
     spdlog::warn("model: {} (the live overlay shows no model curve)", e.what());
   }
@@ -125,6 +146,7 @@ void RigdApp::start_services() {
   c.config = &config_;
   c.realtime = parts_->rt_report.realtime;
   c.version = software_version();
+  c.guard = api::RequestGuard(config_.api.allowed_origins, machine_host_name());
   if (!config_.api.token_file.empty()) c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
   drivers::ModbusDaq* daq = parts_->daq.get();
   if (daq != nullptr) c.extra_metrics = [daq] {
@@ -207,6 +229,7 @@ void RigdApp::shutdown() {
   if (rt_thread_.joinable()) {
     stop_loop_.store(true);
     rt_thread_.join();  // the loop writes motor off on its way out
+    parts_->wake_latency.reset();
     spdlog::info("RT loop stopped, motor off");
   }
   if (parts_->haptic) parts_->haptic->stop();

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "model_lint.hpp"
 #include "recorder.hpp"
 #include "rig/proto/messages.hpp"
 
@@ -63,6 +64,8 @@ std::string StreamHub::model_curve_json(double iop_mmHg) const {
   info.iop_mmHg = iop_mmHg;
   nlohmann::json j = info;
   j["type"] = "model";
+  // The page shows this beside the curve: a printed-form file is drawn as printed.
+  if (m && m->form == model::ModelForm::kPrinted) j["warnings"] = {model::printed_form_warning(*m)};
   return j.dump();
 }
 

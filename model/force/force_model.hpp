@@ -51,7 +51,7 @@ struct EffectSetting {
 
 struct UserTerm {
   std::string name;
-  std::string expression;                 // muParser: x, t, v, P, F0 and the params
+  std::string expression;                 // muParser: x, t, v, P, F, L, th, is_PHASE, covariates, params
   std::string phase;                      // insertion, cutting, precut, hold, retraction, all
   std::map<std::string, double> params;   // initial values, refitted by the lab
 };
@@ -79,12 +79,19 @@ class ForceModel {
   ContinuousParams params;
   PrintedParams printed;
   std::vector<EffectSetting> effects;
-  std::vector<UserTerm> user_terms;
+  std::vector<UserTerm> user_terms;       // part of the model: always fitted, saved in [terms]
+  // Terms offered but not (yet) part of the model (`--terms FILE`): diagnose scores them as
+  // candidates, `fit --add user:NAME` adds them. Never saved with the model.
+  std::vector<UserTerm> candidate_terms;
 
  private:
   double continuous(double x_mm, double iop_mmHg) const;
   double as_printed(double x_mm, double iop_mmHg) const;
 };
+
+// A term file: only [terms.NAME] tables, as in a model file (errors name file, line, key).
+std::vector<UserTerm> load_user_terms(const std::string& path);
+void save_user_terms(const std::string& path, const std::vector<UserTerm>& terms);
 
 // Value of the Stribeck-like cutting plateau of the continuous form [N].
 double cutting_plateau(const ContinuousParams& p, double x_mm, double iop_mmHg);

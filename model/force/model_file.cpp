@@ -21,7 +21,7 @@ class Reader {
 
   void only(const toml::table& table, const std::string& section, const std::set<std::string>& allowed) const {
     for (auto&& [name, node] : table) {
-      if (allowed.count(std::string(name.str())) == 0U) fail(&node, section + "." + std::string(name.str()), "unknown key");
+      if (allowed.count(std::string(name.str())) == 0U) fail(&node, (section.empty() ? "" : section + ".") + std::string(name.str()), "unknown key");
     }
   }
 
@@ -117,36 +117,63 @@ void read_printed(const Reader& r, const toml::table& t, PrintedParams& p) {
   p.x_end_mm = r.number(t, "printed", "x_end_mm", p.x_end_mm);
 }
 
+std::vector<UserTerm> read_terms(const Reader& r, const toml::node* terms) {
+  std::vector<UserTerm> out;
+  if (terms == nullptr) return out;
+  if (!terms->is_table()) r.fail(terms, "terms", "expected tables [terms.NAME]");
+  for (auto&& [name, node] : *terms->as_table()) {
+    const std::string section = "terms." + std::string(name.str());
+    if (!node.is_table()) r.fail(&node, section, "expected a table");
+    const toml::table& t = *node.as_table();
+    r.only(t, section, {"expression", "phase", "params"});
+    UserTerm term{std::string(name.str()), r.text(t, section, "expression", ""), r.text(t, section, "phase", "insertion"), {}};
+    if (term.expression.empty()) r.fail(&node, section + ".expression", "missing");
+    if (const toml::node* params = t.get("params")) term.params = r.number_table(*params, section + ".params");
+    out.push_back(std::move(term));
+  }
+  return out;
+}
+
 void read_extras(const Reader& r, const toml::table& root, ForceModel& m) {
   if (const toml::table* effects = root.get_as<toml::table>("effects")) {
     for (auto&& [name, node] : *effects) {
       m.effects.push_back({std::string(name.str()), r.number_table(node, "effects." + std::string(name.str()))});
     }
   }
-  if (const toml::table* terms = root.get_as<toml::table>("terms")) {
-    for (auto&& [name, node] : *terms) {
-      const std::string section = "terms." + std::string(name.str());
-      if (!node.is_table()) r.fail(&node, section, "expected a table");
-      const toml::table& t = *node.as_table();
-      r.only(t, section, {"expression", "phase", "params"});
-      UserTerm term{std::string(name.str()), r.text(t, section, "expression", ""), r.text(t, section, "phase", "insertion"), {}};
-      if (term.expression.empty()) r.fail(&node, section + ".expression", "missing");
-      if (const toml::node* params = t.get("params")) term.params = r.number_table(*params, section + ".params");
-      m.user_terms.push_back(std::move(term));
-    }
+  m.user_terms = read_terms(r, root.get("terms"));
+}
+
+toml::table terms_table(const std::vector<UserTerm>& user_terms) {
+  toml::table terms;
+  for (const auto& u : user_terms) {
+    toml::table p;
+    for (const auto& [k, v] : u.params) p.insert(k, v);
+    terms.insert(u.name, toml::table{{"expression", u.expression}, {"phase", u.phase}, {"params", p}});
   }
+  return terms;
+}
+
+toml::table parse(const std::string& path) {
+  try {
+    return toml::parse_file(path);
+  } catch (const toml::parse_error& e) {
+    const auto line = e.source().begin.line;  // 0: the file itself (missing, unreadable)
+    throw ModelFileError(path + (line > 0 ? ":" + std::to_string(line) : "") + ": " + std::string(e.description()));
+  }
+}
+
+void write(const std::string& path, const toml::table& root) {
+  std::ofstream out(path);
+  if (!out) throw ModelFileError(path + ": cannot write the model file");
+  out << "# Written by rigd's model lab.\n" << root << "\n";
+  if (!out) throw ModelFileError(path + ": write failed");
 }
 
 }  // namespace
 
 ForceModel ForceModel::load(const std::string& path) {
   Reader r(path);
-  toml::table root;
-  try {
-    root = toml::parse_file(path);
-  } catch (const toml::parse_error& e) {
-    throw ModelFileError(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-  }
+  const toml::table root = parse(path);
   r.only(root, "", {"model", "parameters", "printed", "table", "effects", "terms"});
   ForceModel m;
   m.path = path;
@@ -201,17 +228,21 @@ void ForceModel::save(const std::string& out_path) const {
     effect_table.insert(e.name, t);
   }
   if (!effects.empty()) root.insert("effects", effect_table);
-  toml::table terms;
-  for (const auto& u : user_terms) {
-    toml::table p;
-    for (const auto& [k, v] : u.params) p.insert(k, v);
-    terms.insert(u.name, toml::table{{"expression", u.expression}, {"phase", u.phase}, {"params", p}});
-  }
-  if (!user_terms.empty()) root.insert("terms", terms);
-  std::ofstream out(out_path);
-  if (!out) throw ModelFileError(out_path + ": cannot write the model file");
-  out << "# Written by rigd's model lab.\n" << root << "\n";
-  if (!out) throw ModelFileError(out_path + ": write failed");
+  if (!user_terms.empty()) root.insert("terms", terms_table(user_terms));
+  write(out_path, root);
+}
+
+std::vector<UserTerm> load_user_terms(const std::string& path) {
+  Reader r(path);
+  const toml::table root = parse(path);
+  r.only(root, "", {"terms"});
+  std::vector<UserTerm> terms = read_terms(r, root.get("terms"));
+  if (terms.empty()) r.fail(nullptr, "terms", "no [terms.NAME] table in the term file");
+  return terms;
+}
+
+void save_user_terms(const std::string& path, const std::vector<UserTerm>& terms) {
+  write(path, toml::table{{"terms", terms_table(terms)}});
 }
 
 }  // namespace rig::model

@@ -1,17 +1,16 @@
 #include "model_lint.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <set>
 
+#include "number_text.hpp"
+
 namespace rig::model {
 namespace {
 
-std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) {
-  char text[256];
-  std::snprintf(text, sizeof text, format, a, b, c);
-  return text;
-}
+std::string fmt(const char* format, double a, double b = 0.0, double c = 0.0) { return number_text(format, a, b, c); }
 
 void lint_printed(const ForceModel& m, std::vector<LintFinding>& out) {
   const PrintedParams& p = m.printed;
@@ -34,7 +33,67 @@ double jump_at(const ForceModel& m, double x, double iop) {
   return m.baseline(x + kEps, iop) - m.baseline(x - kEps, iop);
 }
 
+// Where a piece of the model goes below zero: a keratome pushing into the eye is never
+// pulled by it, so a negative force is a defect (the printed unloading piece, read
+// positionally, is -0.53 N at 6.89 mm).
+void lint_negative(const ForceModel& m, double iop, std::vector<LintFinding>& out) {
+  constexpr double kTolerance_N = 1e-4;
+  const double end = m.final_depth_mm(iop);
+  double worst = 0.0, worst_x = 0.0, first_x = -1.0, last_x = 0.0;
+  for (double x = 0.01; x < end; x += 0.01) {
+    const double f = m.baseline(x, iop);
+    if (f >= -kTolerance_N) continue;
+    if (first_x < 0.0) first_x = x;
+    last_x = x;
+    if (f < worst) worst = f, worst_x = x;
+  }
+  if (first_x < 0.0) return;
+  out.push_back({LintFinding::Severity::kError,
+                 fmt("negative force from x = %.2f to %.2f mm", first_x, last_x) +
+                     fmt(" (IOP %.0f mmHg), down to %.4f N", iop, worst) + fmt(" at x = %.2f mm: the blade would be pulled into the eye", worst_x),
+                 worst_x, iop, 0.0, worst});
+}
+
+// The reading without the stray k, beside the positional one: what its unloading piece does.
+void suggest_reading_without_k(const ForceModel& m, std::vector<LintFinding>& out) {
+  const std::optional<ForceModel> alt = reading_without_k(m);
+  if (!alt) return;
+  const double iop = m.table.iop_mmHg.front(), xc = m.printed.x_cut_end_mm, xpf = alt->final_depth_mm(iop);
+  out.push_back({LintFinding::Severity::kInfo,
+                 "reading without the stray k (" + std::to_string(alt->printed.names.size()) + " names, " +
+                     std::to_string(alt->printed.values.size()) + " values; model/params/paper-printed-without-k.toml): " +
+                     fmt("h = %g, m = %g, ", alt->printed.value("h"), alt->printed.value("m")) + fmt("n = %g; ", alt->printed.value("n")) +
+                     fmt("at IOP %.0f mmHg unloading runs %+.4f N", iop, alt->baseline(xc + 1e-6, iop)) +
+                     fmt(" at %.2f mm to %+.4f N", xc, alt->baseline(xpf - 1e-6, iop)) +
+                     fmt(" at x_pf = %.2f mm (the positional reading: %+.4f N", xpf, m.baseline(xc + 1e-6, iop)) +
+                     fmt(" to %+.4f N)", m.baseline(xpf - 1e-6, iop))});
+}
+
 }  // namespace
+
+std::optional<ForceModel> reading_without_k(const ForceModel& printed) {
+  const PrintedParams& p = printed.printed;
+  if (printed.form != ModelForm::kPrinted || p.names.size() != p.values.size() + 1) return std::nullopt;
+  ForceModel alt = printed;
+  auto& names = alt.printed.names;
+  const auto k = std::find(names.begin(), names.end(), "k");
+  if (k == names.end()) return std::nullopt;
+  names.erase(k);
+  alt.name = printed.name + "-without-k";
+  return alt;
+}
+
+std::string printed_form_warning(const ForceModel& model) {
+  return "model '" + model.name + "' (" + model.path + ") is Eq. 1 exactly as printed (form eq1-printed) and is evaluated as printed: " +
+         "it jumps at 0.75 mm, x_pi, 6.89 mm and x_pf and its unloading piece may be negative (`rig model lint " + model.path +
+         "` lists every defect); the lab's reading is paper-interpreted.toml";
+}
+
+std::string printed_form_refusal(const ForceModel& model, const std::string& what) {
+  return model.path + ": '" + model.name + "' is Eq. 1 as printed (form eq1-printed); " + what +
+         " needs the continuous reading, whose parameters the lab fits: use paper-interpreted.toml (docs/model.md), " +
+         "or `rig model compare --model " + model.path + "` to see the printed form against data as printed";
+}
 
 std::string to_string(LintFinding::Severity severity) {
   switch (severity) {
@@ -48,6 +107,7 @@ std::string to_string(LintFinding::Severity severity) {
 std::vector<LintFinding> lint_model(const ForceModel& m) {
   std::vector<LintFinding> out;
   if (m.form == ModelForm::kPrinted) lint_printed(m, out);
+  if (m.form == ModelForm::kPrinted) suggest_reading_without_k(m, out);
   constexpr double kTolerance_N = 1e-4;
   for (const double iop : m.table.iop_mmHg) {
     std::vector<std::pair<std::string, double>> joints;
@@ -67,6 +127,7 @@ std::vector<LintFinding> lint_model(const ForceModel& m) {
                        x, iop, size});
       }
     }
+    lint_negative(m, iop, out);
     if (m.baseline(m.final_depth_mm(iop) - 1e-6, iop) > kTolerance_N) {
       out.push_back({LintFinding::Severity::kWarning,
                      fmt("force does not reach zero at x_pf = %.3f mm (IOP %.0f mmHg): %.4f N just before it",

@@ -1,14 +1,43 @@
 #include "run_csv.hpp"
 
+#include <cctype>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 namespace rig::model {
 namespace {
+
+// A metadata value is one line: a newline in a run's notes must not end it (or start a
+// data row). Escaped as \n, \r and \\; any other backslash is kept as it is.
+std::string escape_meta(const std::string& value) {
+  std::string out;
+  out.reserve(value.size());
+  for (const char c : value) {
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (c == '\\') out += "\\\\";
+    else out.push_back(c);
+  }
+  return out;
+}
+
+std::string unescape_meta(const std::string& value) {
+  std::string out;
+  out.reserve(value.size());
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const char next = i + 1 < value.size() ? value[i + 1] : '\0';
+    if (value[i] == '\\' && (next == 'n' || next == 'r' || next == '\\')) {
+      out.push_back(next == 'n' ? '\n' : (next == 'r' ? '\r' : '\\'));
+      ++i;
+    } else {
+      out.push_back(value[i]);
+    }
+  }
+  return out;
+}
 
 std::vector<std::string> split_commas(const std::string& line) {
   std::vector<std::string> fields;
@@ -67,13 +96,24 @@ class Parser {
     throw RunCsvError(name_ + ":" + std::to_string(line) + ": " + what);
   }
 
+  // "# key: value" by hand: std::regex recurses per character and overflows the stack on
+  // long lines. Values are unescaped (\n, \r, \\), as write_run_csv escapes them.
   void parse_meta(const std::string& line) {
-    static const std::regex kMeta(R"(^#\s*([A-Za-z_][A-Za-z0-9_]*)\s*:\s?(.*)$)");
-    std::smatch m;
-    if (!std::regex_match(line, m, kMeta)) fail(line_no_, "metadata line is not '# key: value'");
-    std::string value = m[2].str();
+    std::size_t i = 1;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const std::size_t key_begin = i;
+    const auto is_key_char = [](char c, bool first) {
+      return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_' || (!first && std::isdigit(static_cast<unsigned char>(c)) != 0);
+    };
+    while (i < line.size() && is_key_char(line[i], i == key_begin)) ++i;
+    const std::size_t key_end = i;
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    if (key_end == key_begin || i >= line.size() || line[i] != ':') fail(line_no_, "metadata line is not '# key: value'");
+    ++i;
+    if (i < line.size() && line[i] == ' ') ++i;
+    std::string value = unescape_meta(line.substr(i));
     while (!value.empty() && value.back() == ' ') value.pop_back();
-    run_.meta.emplace_back(m[1].str(), value);
+    run_.meta.emplace_back(line.substr(key_begin, key_end - key_begin), value);
   }
 
   void parse_header(const std::string& line) {
@@ -146,7 +186,7 @@ RunData read_run_csv(const std::string& path) {
 }
 
 void write_run_csv(const RunData& run, std::ostream& out) {
-  for (const auto& [key, value] : run.meta) out << "# " << key << ": " << value << "\n";
+  for (const auto& [key, value] : run.meta) out << "# " << key << ": " << escape_meta(value) << "\n";
   out << "t_s,x_mm,force_N";
   for (const auto& c : run.channels) out << "," << c.name;
   out << "\n";

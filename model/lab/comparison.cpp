@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <memory>
 
 #include "diagnosis.hpp"
 #include "model_family.hpp"
+#include "model_lint.hpp"
 #include "residual_spectrum.hpp"
 
 namespace rig::model {
@@ -67,6 +70,35 @@ void add_spectra(const PreparedRun& run, const std::vector<double>& residual, Sp
   in_x.add(x, rx, 0.005, 20.0);  // 5 um steps, up to 20 cycles/mm
 }
 
+// The lab's family (Eq. 1 in our continuous reading plus the file's effects), optionally
+// refitted across the runs first.
+std::function<std::vector<double>(const PreparedRun&)> family_residuals(const ForceModel& model, const std::vector<const PreparedRun*>& runs,
+                                                                        bool refit) {
+  auto catalogue = std::make_shared<EffectCatalogue>(model, runs);
+  auto family = std::make_shared<ModelFamily>(model, *catalogue, std::vector<std::string>{});
+  ModelParams params = family->start(runs);
+  if (refit) params = Fitter(family->predictor(), runs).fit(params, 400).params;
+  return [catalogue, family, params](const PreparedRun& run) { return Fitter::residuals(family->predictor(), run, params, run.analysed); };
+}
+
+// Eq. 1 exactly as printed: evaluated as printed (never silently as our reading), with a
+// warning that says so; it has no parameters the lab could refit.
+std::function<std::vector<double>(const PreparedRun&)> printed_residuals(const ForceModel& model, bool refit, std::vector<std::string>& warnings) {
+  if (refit) throw ModelFileError(printed_form_refusal(model, "refit"));
+  if (!model.effects.empty() || !model.user_terms.empty()) {
+    throw ModelFileError(model.path + ": a printed-form model (form eq1-printed) cannot carry effects or terms: the lab adds them to the continuous form only");
+  }
+  warnings.push_back(printed_form_warning(model));
+  return [&model](const PreparedRun& run) {
+    std::vector<double> out;
+    out.reserve(run.analysed.size());
+    for (const std::size_t i : run.analysed) {
+      out.push_back(run.data->force_N[i] - model.baseline(run.data->x_mm[i], run.front_mm[i], run.iop_mmHg));
+    }
+    return out;
+  };
+}
+
 }  // namespace
 
 Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bool refit) {
@@ -79,10 +111,8 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
     runs.push_back(&p);
     out.warnings.insert(out.warnings.end(), p.warnings.begin(), p.warnings.end());
   }
-  const EffectCatalogue catalogue(model, runs);
-  const ModelFamily family(model, catalogue, {});
-  ModelParams params = family.start(runs);
-  if (refit) params = Fitter(family.predictor(), runs).fit(params, 400).params;
+  const std::function<std::vector<double>(const PreparedRun&)> residuals_of =
+      model.form == ModelForm::kPrinted ? printed_residuals(model, refit, out.warnings) : family_residuals(model, runs, refit);
   std::vector<MetricsAccumulator> phases;
   for (int p = 0; p < kPhaseCount; ++p) phases.emplace_back(phase_name(static_cast<Phase>(p)));
   std::vector<MetricsAccumulator> bands;
@@ -92,7 +122,7 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
     RunComparison rc;
     rc.label = run->label();
     rc.segmentation = run->seg;
-    const std::vector<double> residual = Fitter::residuals(family.predictor(), *run, params, run->analysed);
+    const std::vector<double> residual = residuals_of(*run);
     rc.prediction.assign(run->size(), 0.0);
     MetricsAccumulator mine(rc.label);
     for (std::size_t k = 0; k < run->analysed.size(); ++k) {

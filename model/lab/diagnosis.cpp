@@ -7,6 +7,7 @@
 #include <future>
 #include <set>
 
+#include "data_checks.hpp"
 #include "model_family.hpp"
 
 namespace rig::model {
@@ -81,7 +82,7 @@ Evaluated evaluate(const std::string& name, const ForceModel& model, const Effec
   Evaluated out;
   CandidateResult& c = out.result;
   c.effect = name;
-  if (!catalogue.make(name)->applicable(runs, c.not_applicable)) {
+  if (!catalogue.make(name)->applicable(runs, c.not_applicable) || !sampling_allows(name, runs, c.not_applicable)) {
     c.applicable = false;
     return out;
   }
@@ -217,6 +218,7 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
     d.warnings.insert(d.warnings.end(), p.warnings.begin(), p.warnings.end());
   }
   if (runs.empty()) throw std::invalid_argument("diagnose: no runs");
+  append_sampling_warnings(runs, d.warnings);
   const EffectCatalogue catalogue(model, runs);
   const ModelFamily base_family(model, catalogue, o.with);
   d.base_effects = base_family.effect_names();

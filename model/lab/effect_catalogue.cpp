@@ -5,7 +5,11 @@
 #include <set>
 #include <stdexcept>
 
+#include "predictor.hpp"
+
 #include "effects/covariate_scaling.hpp"
+#include "effects/family_term.hpp"
+#include "effects/form_selection.hpp"
 #include "effects/iop_stiffness.hpp"
 #include "effects/mains_interference.hpp"
 #include "effects/rate_dependence.hpp"
@@ -72,7 +76,7 @@ const std::vector<std::string>& EffectCatalogue::builtin_names() {
   return kNames;
 }
 
-EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<const PreparedRun*>& runs) : model_(&model) {
+EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<const PreparedRun*>& runs) : model_(&model), runs_(runs) {
   covariates_ = candidate_keys(runs);
   for (const auto& key : covariates_) covariate_stats_.push_back(covariate_stats(key, runs));
 }
@@ -80,50 +84,122 @@ EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<cons
 std::vector<std::string> EffectCatalogue::candidates() const {
   std::vector<std::string> out = builtin_names();
   for (const auto& key : covariates_) out.push_back("covariate:" + key);
+  for (const UserTerm& term : model_->candidate_terms) out.push_back("user:" + term.name);
   return out;
 }
 
-std::unique_ptr<EffectTerm> EffectCatalogue::make(const std::string& name) const {
+std::unique_ptr<EffectTerm> EffectCatalogue::make_in_form(const std::string& name, int form) const {
   using namespace effects;
-  if (name == "rate_dependence") return std::make_unique<RateDependence>(model_->reference_velocity_mm_s);
-  if (name == "iop_stiffness") return std::make_unique<IopStiffness>();
-  if (name == "shaft_friction") return std::make_unique<ShaftFriction>();
-  if (name == "rig_compliance") return std::make_unique<RigCompliance>();
-  if (name == "sensor_drift") return std::make_unique<SensorDrift>();
-  if (name == "spatial_ripple") return std::make_unique<SpatialRipple>();
-  if (name == "mains_interference") return std::make_unique<MainsInterference>();
-  if (name == "stick_slip") return std::make_unique<StickSlip>();
-  if (name == "stress_relaxation") return std::make_unique<StressRelaxation>();
+  auto in = [form](int fallback) { return form < 0 ? fallback : form; };
+  if (name == "rate_dependence") return std::make_unique<RateDependence>(model_->reference_velocity_mm_s, in(RateDependence::kLogQuadratic));
+  if (name == "iop_stiffness") return std::make_unique<IopStiffness>(in(IopStiffness::kExponentialQuadratic));
+  if (name == "shaft_friction") return std::make_unique<ShaftFriction>(in(ShaftFriction::kSaturating));
+  if (name == "rig_compliance") return std::make_unique<RigCompliance>(in(RigCompliance::kPolynomial));
+  if (name == "sensor_drift") return std::make_unique<SensorDrift>(in(SensorDrift::kPolynomial));
+  if (name == "spatial_ripple") return std::make_unique<SpatialRipple>(in(SpatialRipple::kThreeHarmonics));
+  if (name == "mains_interference") return std::make_unique<MainsInterference>(in(MainsInterference::kThreeHarmonics));
+  if (name == "stick_slip") return std::make_unique<StickSlip>(in(StickSlip::kThreeHarmonics));
+  if (name == "stress_relaxation") return std::make_unique<StressRelaxation>(in(StressRelaxation::kStretched));
   if (name.rfind("covariate:", 0) == 0) {
     const std::string key = name.substr(10);
     const auto at = std::find(covariates_.begin(), covariates_.end(), key);
     if (at == covariates_.end()) throw std::invalid_argument("effect '" + name + "': no numeric covariate '" + key + "' in every run");
     const auto [mean, spread] = covariate_stats_[static_cast<std::size_t>(at - covariates_.begin())];
-    return std::make_unique<CovariateScaling>(key, mean, spread > 0.0 ? spread : 1.0);
+    return std::make_unique<CovariateScaling>(key, mean, spread > 0.0 ? spread : 1.0, in(CovariateScaling::kPerPhase));
   }
   if (name.rfind("user:", 0) == 0) {
-    for (const UserTerm& term : model_->user_terms) {
-      if ("user:" + term.name == name) return std::make_unique<UserExpression>(term);
+    for (const auto* terms : {&model_->user_terms, &model_->candidate_terms}) {
+      for (const UserTerm& term : *terms) {
+        if ("user:" + term.name == name) return std::make_unique<UserExpression>(term);
+      }
     }
   }
   std::string known;
   for (const auto& n : candidates()) known += (known.empty() ? "" : ", ") + n;
   for (const UserTerm& term : model_->user_terms) known += ", user:" + term.name;
+  if (name.rfind("user:", 0) == 0) known += "; user terms come from the model file's [terms] or --terms FILE";
   throw std::invalid_argument("unknown effect '" + name + "' (known: " + known + ")");
+}
+
+std::unique_ptr<EffectTerm> EffectCatalogue::make(const std::string& name) const {
+  auto term = make_in_form(name, -1);
+  std::string why_not;
+  if (!select_forms_ || term->forms().size() < 2 || runs_.empty() || !term->applicable(runs_, why_not)) return term;
+  return selected(name);
+}
+
+std::unique_ptr<EffectTerm> EffectCatalogue::make_form(const std::string& name, const std::string& form) const {
+  const auto forms = make_in_form(name, -1)->forms();
+  const int index = effects::form_named(forms, form);
+  if (index < 0) {
+    std::string known;
+    for (const auto& f : forms) known += (known.empty() ? "" : ", ") + f;
+    throw std::invalid_argument("effect '" + name + "': unknown form '" + form + "' (known: " + (known.empty() ? "none" : known) + ")");
+  }
+  return make_in_form(name, index);
+}
+
+std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) const {
+  auto with_note = [&](int form, const std::string& note) {
+    auto term = make_in_form(name, form);
+    if (auto* family = dynamic_cast<effects::FamilyTerm*>(term.get())) family->set_selection_note(note);
+    return term;
+  };
+  {
+    const std::lock_guard<std::mutex> lock(cache_->mutex);
+    const auto it = cache_->chosen.find(name);
+    if (it != cache_->chosen.end()) return with_note(it->second.first, it->second.second);
+  }
+  // Selected outside the lock: the other threads select their own families meanwhile.
+  std::vector<SavedEffect> base = saved_effects(*model_, *this);
+  std::vector<std::unique_ptr<EffectTerm>> with_terms;
+  effects::FormSelectionInput in;
+  in.model = model_;
+  for (const SavedEffect& saved : base) in.base_terms.push_back(saved.term.get()), in.base_params.push_back(saved.params);
+  for (const std::string& w : with_) {
+    if (w == name) continue;
+    with_terms.push_back(make(w));
+    in.base_terms.push_back(with_terms.back().get());
+    in.base_params.push_back(Predictor(*model_, {with_terms.back().get()}).initial_params().shared.front());
+  }
+  in.runs = runs_;
+  in.forms = static_cast<int>(make_in_form(name, -1)->forms().size());
+  in.make_form = [&](int form) { return make_in_form(name, form); };
+  std::call_once(cache_->baseline_once, [&] { cache_->baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in)); });
+  const effects::FormChoice choice = effects::select_form(in, *cache_->baseline);
+  const std::lock_guard<std::mutex> lock(cache_->mutex);
+  cache_->chosen.emplace(name, std::make_pair(choice.form, choice.note));
+  return with_note(choice.form, choice.note);
+}
+
+std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& setting) const {
+  const auto mean = setting.params.find("mean");
+  const auto spread = setting.params.find("spread");
+  const bool saved_covariate = setting.name.rfind("covariate:", 0) == 0 && mean != setting.params.end() && spread != setting.params.end();
+  auto build = [&](int form) -> std::unique_ptr<EffectTerm> {
+    // A covariate term keeps the centre and scale it was fitted with.
+    if (saved_covariate) {
+      return std::make_unique<effects::CovariateScaling>(setting.name.substr(10), mean->second, spread->second,
+                                                         form < 0 ? effects::CovariateScaling::kPerPhase : form);
+    }
+    return make_in_form(setting.name, form);
+  };
+  auto term = build(-1);
+  int best = -1;
+  std::size_t best_names = 0;
+  for (int f = 0; f < static_cast<int>(term->forms().size()); ++f) {
+    const auto specs = build(f)->shared_params();
+    const bool all_present = std::all_of(specs.begin(), specs.end(), [&](const ParamSpec& s) { return setting.params.count(s.name) != 0U; });
+    if (all_present && (best < 0 || specs.size() > best_names)) best = f, best_names = specs.size();
+  }
+  return best < 0 ? std::move(term) : build(best);
 }
 
 std::vector<SavedEffect> saved_effects(const ForceModel& model, const EffectCatalogue& catalogue) {
   std::vector<SavedEffect> out;
   for (const EffectSetting& setting : model.effects) {
     SavedEffect saved;
-    const auto mean = setting.params.find("mean");
-    const auto spread = setting.params.find("spread");
-    if (setting.name.rfind("covariate:", 0) == 0 && mean != setting.params.end() && spread != setting.params.end()) {
-      // A covariate term keeps the centre and scale it was fitted with.
-      saved.term = std::make_unique<effects::CovariateScaling>(setting.name.substr(10), mean->second, spread->second);
-    } else {
-      saved.term = catalogue.make(setting.name);
-    }
+    saved.term = catalogue.make_saved(setting);
     for (const ParamSpec& spec : saved.term->shared_params()) {
       const auto it = setting.params.find(spec.name);
       saved.params.push_back(it != setting.params.end() ? it->second : spec.initial);

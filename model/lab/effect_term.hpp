@@ -70,6 +70,12 @@ class EffectTerm {
   virtual std::vector<std::vector<double>> starts() const;
   // The evidence in words, from the fitted parameters.
   virtual std::string evidence(const EvidenceInput& in) const = 0;
+
+  // Effect families: a catalogue entry covers the forms its physics uses ("coulomb",
+  // "viscous", ...). forms() names them (empty: a single form); form() is this instance's.
+  // The catalogue picks the form by an information criterion (see form_selection.hpp).
+  virtual std::vector<std::string> forms() const { return {}; }
+  virtual std::string form() const { return ""; }
 };
 
 }  // namespace rig::model

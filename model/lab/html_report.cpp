@@ -1,28 +1,25 @@
 #include "html_report.hpp"
 
-#include <nlohmann/json.hpp>
-
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <algorithm>
 #include <stdexcept>
 
 #include "lab_json.hpp"
+#include "report/report_series.hpp"
 
 namespace rig::model {
 namespace {
 
-std::string read_file(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 void replace(std::string& text, const std::string& marker, const std::string& with) {
   const auto at = text.find(marker);
-  if (at != std::string::npos) text.replace(at, marker.size(), with);
+  if (at == std::string::npos) throw std::logic_error("report template lacks " + marker);
+  text.replace(at, marker.size(), with);
+}
+
+// Inlined scripts and data must not close their <script> element early.
+std::string script_safe(std::string text) {
+  for (std::size_t at = text.find("</"); at != std::string::npos; at = text.find("</", at + 3))
+    text.replace(at, 2, "<\\/");
+  return text;
 }
 
 nlohmann::json curves(const Comparison& c, const std::vector<RunData>& runs) {
@@ -35,8 +32,8 @@ nlohmann::json curves(const Comparison& c, const std::vector<RunData>& runs) {
   for (std::size_t r = 0; r < runs.size() && r < 6; ++r) {
     std::vector<double> measured(grid.size()), model(grid.size());
     std::size_t i = 0;
+    const std::size_t end = c.runs[r].segmentation.insertion_end;
     for (std::size_t g = 0; g < grid.size(); ++g) {
-      const std::size_t end = c.runs[r].segmentation.insertion_end;
       while (i < end && runs[r].x_mm[i] < grid[g]) ++i;
       measured[g] = runs[r].force_N[i];
       model[g] = c.runs[r].prediction[i];
@@ -46,8 +43,10 @@ nlohmann::json curves(const Comparison& c, const std::vector<RunData>& runs) {
   return out;
 }
 
-nlohmann::json residual(const Comparison& c, const std::vector<RunData>& runs) {
-  nlohmann::json out = {{"label", c.runs.front().label}, {"t", nlohmann::json::array()}, {"residual", nlohmann::json::array()},
+nlohmann::json residual_in_time(const Comparison& c, const std::vector<RunData>& runs) {
+  nlohmann::json out = {{"label", c.runs.front().label},
+                        {"t", nlohmann::json::array()},
+                        {"residual", nlohmann::json::array()},
                         {"phases", nlohmann::json::array()}};
   const RunData& run = runs.front();
   const auto& seg = c.runs.front().segmentation;
@@ -59,7 +58,9 @@ nlohmann::json residual(const Comparison& c, const std::vector<RunData>& runs) {
   std::size_t begin = 0;
   for (std::size_t i = 1; i <= run.size(); ++i) {
     if (i == run.size() || seg.phase[i] != seg.phase[begin]) {
-      out["phases"].push_back({{"phase", phase_name(seg.phase[begin])}, {"t0", run.t_s[begin]}, {"t1", run.t_s[i - 1]}});
+      out["phases"].push_back({{"phase", phase_name(seg.phase[begin])},
+                               {"t0", run.t_s[begin]},
+                               {"t1", run.t_s[i - 1]}});
       begin = i;
     }
   }
@@ -68,36 +69,28 @@ nlohmann::json residual(const Comparison& c, const std::vector<RunData>& runs) {
 
 }  // namespace
 
-std::pair<std::string, std::string> find_uplot(const std::string& executable_dir) {
-  std::vector<std::filesystem::path> places;
-  if (const char* root = std::getenv("RIG_WEB_ROOT")) places.emplace_back(std::filesystem::path(root) / "vendor");
-  places.emplace_back(std::filesystem::path(executable_dir) / ".." / "web" / "vendor");
-  places.emplace_back(std::filesystem::path(executable_dir) / ".." / "share" / "rigd" / "web" / "vendor");
-  places.emplace_back("/usr/share/rigd/web/vendor");
-  std::string looked;
-  for (const auto& dir : places) {
-    if (std::filesystem::exists(dir / "uPlot.iife.min.js")) {
-      return {read_file(dir / "uPlot.iife.min.js"), read_file(dir / "uPlot.min.css")};
-    }
-    looked += " " + dir.string();
+std::string render_report(const std::vector<RunData>& runs, const ReportContent& content,
+                          const ReportAssets& assets) {
+  if (content.before == nullptr || content.before->runs.empty() ||
+      runs.size() != content.before->runs.size()) {
+    throw std::invalid_argument("report: no runs");
   }
-  throw std::runtime_error("report: uPlot not found (looked in" + looked + "); set RIG_WEB_ROOT to the page's directory");
-}
-
-std::string render_report(const Comparison& comparison, const std::vector<RunData>& runs,
-                          const std::pair<std::string, std::string>& uplot) {
-  if (comparison.runs.empty()) throw std::invalid_argument("report: no runs");
-  nlohmann::json data = {{"comparison", to_json(comparison)}, {"curves", curves(comparison, runs)},
-                         {"residual", residual(comparison, runs)}};
+  const Comparison& c = *content.before;
+  nlohmann::json data = {{"kind", content.kind},
+                         {"comparison", to_json(c)},
+                         {"curves", curves(c, runs)},
+                         {"residual", residual_in_time(c, runs)},
+                         {"series", report_series(runs, c, content.after)},
+                         {"lab", content.lab}};
+  if (content.after != nullptr) data["after"] = to_json(*content.after);
   // Spectra in full for the plots (the comparison's JSON keeps only the peaks).
-  data["spectrum_time"] = {{"frequency", comparison.time_frequency_Hz}, {"amplitude", comparison.time_amplitude_N}};
-  data["spectrum_x"] = {{"frequency", comparison.x_frequency_per_mm}, {"amplitude", comparison.x_amplitude_N}};
+  data["spectrum_time"] = {{"frequency", c.time_frequency_Hz}, {"amplitude", c.time_amplitude_N}};
+  data["spectrum_x"] = {{"frequency", c.x_frequency_per_mm}, {"amplitude", c.x_amplitude_N}};
   std::string html = report_template();
-  std::string json = data.dump();
-  for (std::size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at + 2)) json.replace(at, 2, "<\\/");
-  replace(html, "/*UPLOT_CSS*/", uplot.second);
-  replace(html, "/*UPLOT_JS*/", uplot.first);
-  replace(html, "/*DATA*/", json);
+  replace(html, "/*UPLOT_CSS*/", assets.uplot_css);
+  replace(html, "/*UPLOT_JS*/", script_safe(assets.uplot_js));
+  replace(html, "/*LAB_PLOTS_JS*/", script_safe(assets.lab_plots_js));
+  replace(html, "/*DATA*/", script_safe(data.dump()));
   return html;
 }
 

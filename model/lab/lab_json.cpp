@@ -102,6 +102,7 @@ nlohmann::json lint_json(const ForceModel& model, const std::vector<LintFinding>
   for (const LintFinding& f : findings) {
     nlohmann::json j = {{"severity", to_string(f.severity)}, {"what", f.what}};
     if (f.size_N != 0.0) j.update({{"x_mm", f.x_mm}, {"iop_mmHg", f.iop_mmHg}, {"jump_N", f.size_N}});
+    if (f.lowest_N != 0.0) j.update({{"x_mm", f.x_mm}, {"iop_mmHg", f.iop_mmHg}, {"lowest_N", f.lowest_N}});
     list.push_back(std::move(j));
   }
   return {{"model", model.name}, {"file", model.path}, {"findings", list}};

@@ -1,8 +1,10 @@
 #include "model_family.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "effects/covariate_scaling.hpp"
+#include "effects/user_expression.hpp"
 
 namespace rig::model {
 
@@ -14,6 +16,7 @@ ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalog
   }
   saved_count_ = owned_.size();
   for (const std::string& name : extra) {
+    if (std::find(names_.begin(), names_.end(), name) != names_.end()) continue;
     owned_.push_back(catalogue.make(name));
     names_.push_back(owned_.back()->name());
   }
@@ -60,6 +63,14 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
       setting.params["spread"] = cov->spread();
     }
     out.push_back(std::move(setting));
+  }
+  return out;
+}
+
+std::vector<UserTerm> ModelFamily::user_terms(const ModelParams& params) const {
+  std::vector<UserTerm> out;
+  for (std::size_t k = 0; k < owned_.size(); ++k) {
+    if (const auto* user = dynamic_cast<const effects::UserExpression*>(owned_[k].get())) out.push_back(user->with_params(params.shared[k].data()));
   }
   return out;
 }

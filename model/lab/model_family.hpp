@@ -1,6 +1,7 @@
 #pragma once
 // A model family to fit: Eq. 1 plus a list of effect terms (owned), with starting values.
-// Builds the Predictor, picks the best start of multimodal terms, runs the CV.
+// Builds the Predictor, picks the best start of multimodal terms, runs the CV. An effect is
+// never in a family twice: an extra effect the model already has is left out.
 #include <memory>
 #include <string>
 #include <vector>
@@ -23,6 +24,8 @@ class ModelFamily {
   double eye_variance_N2(const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
   // The effect settings (shared parameters by name) of a fit, for a model file.
   std::vector<EffectSetting> settings(const ModelParams& params) const;
+  // The user terms of the family with their fitted parameters, for the model file's [terms].
+  std::vector<UserTerm> user_terms(const ModelParams& params) const;
   std::string evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
 
  private:

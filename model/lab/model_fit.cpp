@@ -1,5 +1,8 @@
 #include "model_fit.hpp"
 
+#include <algorithm>
+#include <stdexcept>
+
 #include "diagnosis.hpp"
 #include "model_family.hpp"
 
@@ -29,6 +32,29 @@ std::map<std::string, double> baseline_params(const ContinuousParams& p) {
   return out;
 }
 
+// The effects to add that are not in the model yet; the others are named in a warning.
+std::vector<std::string> new_effects(const std::vector<std::string>& add, const std::vector<std::string>& present,
+                                     std::vector<std::string>& warnings) {
+  std::vector<std::string> out;
+  for (const std::string& name : add) {
+    const bool in_model = std::find(present.begin(), present.end(), name) != present.end();
+    if (in_model || std::find(out.begin(), out.end(), name) != out.end()) {
+      warnings.push_back(name + (in_model ? " is already in the model: not added again" : " was asked for twice: added once"));
+      continue;
+    }
+    out.push_back(name);
+  }
+  return out;
+}
+
+// A user term must find every covariate it names in every run before it is fitted.
+void check_user_terms(const ModelFamily& family, const EffectCatalogue& catalogue, const std::vector<const PreparedRun*>& runs) {
+  for (const std::string& name : family.effect_names()) {
+    std::string why_not;
+    if (name.rfind("user:", 0) == 0 && !catalogue.make(name)->applicable(runs, why_not)) throw std::invalid_argument(name + ": " + why_not);
+  }
+}
+
 }  // namespace
 
 FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, const std::vector<std::string>& add, bool per_run) {
@@ -44,7 +70,9 @@ FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, c
   const EffectCatalogue catalogue(model, runs);
   const ModelFamily before_family(model, catalogue, {});
   const CvResult before = before_family.cross_validate(runs);
-  const ModelFamily after_family(model, catalogue, add);
+  const std::vector<std::string> added = new_effects(add, before_family.effect_names(), report.warnings);
+  const ModelFamily after_family(model, catalogue, added);
+  check_user_terms(after_family, catalogue, runs);
   const CvResult after = after_family.cross_validate(runs);
   report.effects = after_family.effect_names();
   report.before_cv_rmse_N = before.rmse_N;
@@ -62,7 +90,12 @@ FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, c
   report.fitted.params = after.full.params.base;
   report.fitted.effects = after_family.settings(after.full.params);
   for (const EffectSetting& e : report.fitted.effects) report.params[e.name] = e.params;
-  if (!add.empty()) report.fitted.name = model.name + "+" + add.front() + (add.size() > 1 ? "+..." : "");
+  report.fitted.user_terms = after_family.user_terms(after.full.params);
+  for (const UserTerm& u : report.fitted.user_terms) report.params["user:" + u.name] = u.params;
+  std::erase_if(report.fitted.candidate_terms, [&](const UserTerm& c) {
+    return std::any_of(report.fitted.user_terms.begin(), report.fitted.user_terms.end(), [&](const UserTerm& u) { return u.name == c.name; });
+  });
+  if (!added.empty()) report.fitted.name = model.name + "+" + added.front() + (added.size() > 1 ? "+..." : "");
   if (per_run) {
     for (const PreparedRun* run : runs) {
       const FitResult fit = Fitter(after_family.predictor(), {run}).fit(after.full.params, 300);

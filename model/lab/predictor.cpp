@@ -3,11 +3,15 @@
 #include <Eigen/Dense>
 #include <algorithm>
 
+#include "model_lint.hpp"
+
 namespace rig::model {
 
 Predictor::Predictor(const ForceModel& model, std::vector<const EffectTerm*> terms)
     : model_(model), terms_(std::move(terms)) {
-  model_.form = ModelForm::kContinuous;
+  // Never run a printed-form file silently as our continuous reading (its parameters would
+  // be the interpreted defaults, not the file's): the lab fits the continuous form only.
+  if (model_.form != ModelForm::kContinuous) throw ModelFileError(printed_form_refusal(model_, "the model lab"));
   for (const EffectTerm* t : terms_) (t->per_run_coefficients() ? linear_columns_ : shared_columns_) += t->linear_columns();
 }
 

@@ -4,11 +4,13 @@
 #include <atomic>
 #include <pthread.h>
 #include <sched.h>
+#include <sys/mman.h>
 
 #include <csignal>
 #include <fstream>
 #include <iostream>
 
+#include "clock/cpu_wake_latency_request.hpp"
 #include "modbus_sim_server.hpp"
 #include "rig/sim/hidden_effect.hpp"
 #include "rig/sim/rig_physics.hpp"
@@ -28,6 +30,8 @@ int main(int argc, char** argv) {
   std::string port_file;
   double covariate = 2.0;
   int rt_priority = 70;
+  int cpu_wake_latency_us = 0;
+  bool lock_memory = true;
   app.add_option("--bind", options.bind, "address to listen on (loopback by default)");
   app.add_option("--port", options.port, "TCP port, 0 = any free port")->check(CLI::Range(0, 65535));
   app.add_option("--rtu", options.rtu_device, "also serve Modbus RTU on this serial device (e.g. a socat pty)");
@@ -39,7 +43,10 @@ int main(int argc, char** argv) {
   app.add_option("--surface-mm", physics.tissue.surface_mm, "carriage position of the corneal surface [mm]");
   app.add_option("--eye-variability", physics.tissue.eye_variability, "relative sigma of per-eye stiffness");
   app.add_option("--force-noise-N", physics.sensors.force_noise_N, "load-cell noise, 1 sigma [N]");
-  app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server thread (a DAQ answers at once), 0 = none");
+  app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
+  app.add_option("--cpu-wake-latency-us", cpu_wake_latency_us,
+                 "PM QoS while serving: idle CPUs wake within this (0 = poll), -1 = no request [us]")->check(CLI::Range(-1, 100000));
+  app.add_flag("!--no-lock-memory", lock_memory, "do not mlockall (page faults may then delay replies)");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<rig::sim::HiddenEffect> effects;
@@ -60,12 +67,21 @@ int main(int argc, char** argv) {
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     if (!port_file.empty()) std::ofstream(port_file) << server.port() << "\n";
+    // A DAQ box answers from its own CPU: real-time priority (the physics thread started by
+    // run() inherits it), memory locked, and idle CPUs kept quick to wake.
     if (rt_priority > 0) {
       sched_param param{};
       param.sched_priority = rt_priority;
       if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) {
         std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
       }
+    }
+    if (lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+      std::cerr << "rig-sim: warning: mlockall refused, page faults may delay replies\n";
+    }
+    const rig::drivers::CpuWakeLatencyRequest wake_latency(cpu_wake_latency_us);
+    if (cpu_wake_latency_us >= 0 && !wake_latency.held()) {
+      std::cerr << "rig-sim: warning: " << wake_latency.why_not() << ": idle CPUs may wake late for requests\n";
     }
     if (!options.rtu_device.empty()) std::cout << "rig-sim: Modbus RTU on " << options.rtu_device << std::endl;
     std::cout << "rig-sim: listening on " << options.bind << ":" << server.port() << std::endl;

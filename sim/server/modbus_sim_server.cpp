@@ -192,9 +192,15 @@ void ModbusSimServer::serve_rtu() {
 }
 
 void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
+  // The DAQ's own conversion clock: 1 kHz on absolute deadlines, so physics and the DAQ
+  // watchdog move on without requests and a reply never has more than ~1 ms to catch up.
   double drop_until_s = -1.0;
+  auto next = std::chrono::steady_clock::now();
   while (!stop.load()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    next += std::chrono::milliseconds(1);
+    const auto woke = std::chrono::steady_clock::now();
+    if (next < woke) next = woke;  // after a stall: carry on from now, do not burst
+    std::this_thread::sleep_until(next);
     std::lock_guard lock(mutex_);
     refresh_registers();
     std::uint16_t& drop = mapping_->tab_registers[reg::sim_panel::kLinkDrop];

@@ -15,6 +15,7 @@
 
 #include "archive.hpp"
 #include "rig_processes.hpp"
+#include "scoped_realtime.hpp"
 #include "sim_panel.hpp"
 #include "sqlite_handle.hpp"
 
@@ -56,8 +57,12 @@ class FaultMatrix : public ::testing::Test {
                            const std::string& reason, const std::function<void(testing::SimPanel&)>& clear) {
     Outcome out;
     testing::SimPanel panel(rig_->sim_port());
-    const double injected_at = panel.sim_time_s();
-    inject(panel);
+    double injected_at = 0.0;
+    {
+      const testing::ScopedRealtime one_step;  // read the DAQ's time and inject, undisturbed
+      injected_at = panel.sim_time_s();
+      inject(panel);
+    }
     EXPECT_TRUE(rig_->wait([&](const json& s) { return s["state"] == state; }, 15)) << rig_->status().dump();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     testing::SimPanel after(rig_->sim_port());  // a dropped link closes the first panel's connection
@@ -196,10 +201,17 @@ TEST_F(FaultMatrixCustomRig, CameraLostMidCut) {
   // A real GigE Vision camera (Aravis's fake one on loopback), its process killed mid-cut.
   auto camera = std::make_unique<cli::ChildProcess>(
       std::vector<std::string>{"/usr/bin/arv-fake-gv-camera-0.8", "-i", "127.0.0.1"}, dir_.file("camera.log"));
-  std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{},
-                                        std::vector<std::string>{"camera.kind=\"aravis\"", "camera.id=\"127.0.0.1\"",
-                                                                 "camera.width=320", "camera.height=240", "camera.frame_rate_hz=20"});
+  // The fake camera answers once it is up, which a busy machine delays: ask until it does.
+  for (int attempt = 0; !rig_; ++attempt) {
+    try {
+      rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{},
+                                            std::vector<std::string>{"camera.kind=\"aravis\"", "camera.id=\"127.0.0.1\"",
+                                                                     "camera.width=320", "camera.height=240", "camera.frame_rate_hz=20"});
+    } catch (const std::exception& e) {
+      if (attempt >= 10 || std::string(e.what()).find("Can't connect to device") == std::string::npos) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    }
+  }
   cut_into_tissue();
   inject_and_check([&](auto&) { camera.reset(); }, "Fault", "camera lost", [](auto&) {});
 }
@@ -229,8 +241,12 @@ TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
   cut_into_tissue();
   testing::SimPanel panel(rig_->sim_port());
-  const double killed_at = panel.sim_time_s();
-  ::kill(rig_->rigd().pid(), SIGKILL);
+  double killed_at = 0.0;
+  {
+    const testing::ScopedRealtime one_step;  // read the DAQ's time and kill, undisturbed
+    killed_at = panel.sim_time_s();
+    ::kill(rig_->rigd().pid(), SIGKILL);
+  }
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   // Nobody is left to command the motor: the DAQ's own watchdog (5 ms) cuts it.
   EXPECT_FALSE(panel.motor_powered());

@@ -1,6 +1,8 @@
 // The Modbus DAQ driver against the simulated rig's real Modbus TCP server on loopback, and
 // mbpoll (an independent client) reading the same server.
 #include <gtest/gtest.h>
+#include <pthread.h>
+#include <sched.h>
 
 #include <array>
 #include <atomic>
@@ -24,6 +26,11 @@ class ModbusProtocolTest : public ::testing::Test {
   void SetUp() override {
     server_ = std::make_unique<sim::ModbusSimServer>(physics_, sim::SimServerOptions{"127.0.0.1", 0});
     thread_ = std::thread([this] { server_->run(stop_); });
+    // The simulated DAQ answers from "its own CPU", as rig-sim does: on a busy machine a
+    // normally scheduled server thread can stay off the CPU past any time-out.
+    sched_param param{};
+    param.sched_priority = 70;
+    pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);  // refused without privileges: fine
     drivers::ModbusDaqSettings s;
     s.port = server_->port();
     s.response_timeout_us = 5000;  // generous: these tests check behaviour, not speed
@@ -98,6 +105,22 @@ TEST_F(ModbusProtocolTest, ALateReplyIsATimeoutThatDoesNotHangAndTheLinkRecovers
   for (int i = 0; i < 3 && status != IoStatus::kOk; ++i) status = daq_->read(frame);
   EXPECT_EQ(status, IoStatus::kOk);
   EXPECT_GE(daq_->counters().timeouts, 1U);
+}
+
+TEST_F(ModbusProtocolTest, WhileALateAnswerIsOnItsWayNoFurtherRequestQueuesBehindIt) {
+  panel_->set(proto::daq::sim_panel::kLateReplyUs, 20000);  // 20 ms > the 5 ms time-out
+  drivers::AnalogFrame frame;
+  EXPECT_EQ(daq_->read(frame), IoStatus::kTimeout);
+  const std::uint64_t sent = daq_->counters().transactions;
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(daq_->read(frame), IoStatus::kTimeout) << "the answer is still on its way";
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2)) << "waited for nothing";
+  EXPECT_EQ(daq_->counters().transactions, sent) << "a request was queued behind the late one";
+  panel_->set(proto::daq::sim_panel::kLateReplyUs, 0);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  IoStatus status = IoStatus::kTimeout;
+  for (int i = 0; i < 3 && status != IoStatus::kOk; ++i) status = daq_->read(frame);
+  EXPECT_EQ(status, IoStatus::kOk);
 }
 
 TEST_F(ModbusProtocolTest, ADroppedLinkIsReportedAndReconnectedAfterItComesBack) {

@@ -66,7 +66,7 @@ TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
 }
 
 TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
-  const RunData needle = read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const RunData needle = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const Segmentation s = detect_phases(needle);
   ASSERT_GT(s.hold_end, s.hold_begin) << "the liver data holds at 30 mm";
   EXPECT_GT(needle.t_s[s.hold_end - 1] - needle.t_s[s.hold_begin], 5.0);

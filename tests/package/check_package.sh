@@ -20,7 +20,8 @@ dpkg-deb -x "$deb" "$root"
 dpkg-deb -e "$deb" "$root/DEBIAN"
 for f in usr/sbin/rigd usr/bin/rig usr/bin/rig-sim usr/lib/systemd/system/rigd.service usr/lib/sysusers.d/rigd.conf \
          usr/lib/udev/rules.d/60-rigd.rules etc/rigd/rigd.toml usr/share/rigd/web/index.html usr/share/rigd/web/app.js \
-         usr/share/rigd/web/vendor/uPlot.iife.min.js usr/share/rigd/models/paper-interpreted.toml \
+         usr/share/rigd/web/vendor/uPlot.iife.min.js usr/share/rigd/web/lab_plots.js usr/share/rigd/models/paper-interpreted.toml \
+         usr/share/rigd/models/paper-printed-without-k.toml \
          usr/share/doc/rigd/technician-guide.md usr/share/doc/rigd/deployment.md; do
   [ -e "$root/$f" ] || fail "/$f missing from the package"
 done
@@ -34,4 +35,10 @@ sh -n "$root/DEBIAN/postinst" && sh -n "$root/DEBIAN/prerm" || fail "maintainer 
 sed "s|/usr/sbin/rigd|$root/usr/sbin/rigd|g; s|/etc/rigd/|$root/etc/rigd/|g" "$root/usr/lib/systemd/system/rigd.service" > "$root/rigd.service"
 out="$(systemd-analyze verify "$root/rigd.service" 2>&1)" || fail "systemd-analyze verify: $out"
 [ -z "$out" ] || fail "systemd-analyze verify: $out"
+# ... and the packaged `rig` writes a model-lab report from the install paths alone (the page's
+# assets in /usr/share/rigd/web beside /usr/bin/rig), without RIG_WEB_ROOT.
+report="$root/report.html"
+env -u RIG_WEB_ROOT -u RIG_MODEL_DIR "$root/usr/bin/rig" model compare "$src/tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv" \
+  --report "$report" > /dev/null 2>&1 || fail "the packaged rig could not write a report"
+grep -q 'function rigLabPlots' "$report" && grep -q '"series"' "$report" || fail "the packaged report lacks its plots or data"
 echo "installed into $root: $(find "$root" -type f | wc -l) files; layout, control data, config and unit OK"

@@ -70,10 +70,23 @@ TEST(Archive, RunsLeftRecordingAreMarkedInterruptedAndKeepTheirSamples) {
   EXPECT_EQ(row->samples, 10);
 }
 
+TEST(Archive, ARunLeftArmedByACrashIsInterruptedNotCancelled) {
+  testing::ScratchDir dir("archive-crash-armed");
+  std::int64_t id = 0;
+  {
+    Archive a(dir.file("a.sqlite"));
+    id = a.create_run(NewRun{});
+  }
+  Archive b(dir.file("a.sqlite"));
+  EXPECT_EQ(b.recover_interrupted(), 1);
+  EXPECT_EQ(b.find_run(id)->outcome, "interrupted");
+  EXPECT_EQ(b.find_run(id)->reason, "rigd stopped before the cut started");
+}
+
 TEST(Archive, ImportedFilesExportAgainWithTheirMetadataAndChannels) {
   testing::ScratchDir dir("archive-import");
   Archive a(dir.file("a.sqlite"));
-  const model::RunData needle = model::read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const model::RunData needle = model::read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const std::int64_t id = a.import_run(needle);
   const model::RunData back = a.load_run(id);
   EXPECT_EQ(back.size(), needle.size());
@@ -81,6 +94,25 @@ TEST(Archive, ImportedFilesExportAgainWithTheirMetadataAndChannels) {
   EXPECT_EQ(back.force_N, needle.force_N);
   EXPECT_EQ(back.text("source_doi"), needle.text("source_doi"));
   EXPECT_EQ(back.text("outcome"), "imported");
+}
+
+TEST(Archive, ARunTheLoopRefusedLeavesNoRowButARecordedRunIsNeverDiscarded) {
+  testing::ScratchDir dir("archive-refused");
+  Archive a(dir.file("a.sqlite"));
+  NewRun run;
+  run.eye_id = "E08";
+  run.meta = {{"temperature_C", "21"}};
+  const std::int64_t refused = a.create_run(run);
+  const std::int64_t recorded = a.create_run(run);
+  a.begin();
+  a.append_sample(sample(recorded, 1, 19.0, 0.0));
+  a.commit();
+  a.discard_unstarted_run(refused);
+  a.discard_unstarted_run(recorded);  // still 'armed', but it holds a sample: kept
+  EXPECT_FALSE(a.find_run(refused).has_value());
+  EXPECT_TRUE(a.run_meta(refused).empty());
+  ASSERT_TRUE(a.find_run(recorded).has_value());
+  EXPECT_FALSE(a.run_meta(recorded).empty());
 }
 
 TEST(Archive, AMissingRunIsAnErrorNamingIt) {

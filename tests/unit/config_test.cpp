@@ -67,6 +67,23 @@ TEST(Config, ANonLoopbackBindWithoutATokenFileIsRefused) {
   EXPECT_NE(m.find("'api.token_file' is required"), std::string::npos) << m;
 }
 
+TEST(Config, ABindNameInsteadOfAnAddressIsRefusedNamingTheKey) {
+  const std::string m = message_for("[api]\nbind = \"localhost\"\n");
+  EXPECT_NE(m.find("key 'api.bind' = \"localhost\" is not an IP address"), std::string::npos) << m;
+}
+
+TEST(Config, ADaqWatchdogOfZeroIsRefused) {
+  const std::string m = message_for("[daq]\nwatchdog_ms = 0\n");
+  EXPECT_NE(m.find("daq.watchdog_ms"), std::string::npos) << m;
+  EXPECT_NE(m.find("rigd.toml:2"), std::string::npos) << m;
+}
+
+TEST(Config, AnAllowedOriginThatIsNotAnOriginIsRefused) {
+  const std::string m = message_for("[api]\nallowed_origins = \"http://rig07:8080, rig08:8080\"\n");
+  EXPECT_NE(m.find("key 'api.allowed_origins': 'rig08:8080' is not an origin"), std::string::npos) << m;
+  EXPECT_EQ(message_for("[api]\nallowed_origins = \"http://rig07:8080, https://rig08.lab:8443\"\n"), "no error");
+}
+
 TEST(Config, AResponseTimeoutLongerThanTheLoopPeriodIsRefused) {
   const std::string m = message_for("[loop]\nrate_hz = 5000\n[daq]\nresponse_timeout_us = 700\n");
   EXPECT_NE(m.find("'daq.response_timeout_us'"), std::string::npos) << m;

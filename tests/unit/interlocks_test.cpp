@@ -116,6 +116,37 @@ TEST_F(InterlockTest, AStuckForceChannelWhileCuttingFaultsTheRun) {
   expect_run_kept_with(FaultCode::kStuckForce);
 }
 
+TEST_F(InterlockTest, AnIopLeakDuringTheCutFaultsTheRunOnceThePressureHasLeftItsBand) {
+  rig_.physics().faults().iop_leak_fraction = 0.9;  // a burst line: the pump cannot hold 15 mmHg
+  double left_band_at = -1.0;
+  for (int ms = 0; ms < 3000 && rig_.physics().truth().motor_powered; ++ms) {
+    rig_.advance(kPeriod_s);
+    if (left_band_at < 0.0 && std::abs(rig_.status().iop_mmHg - 15.0) > 5.0) left_band_at = rig_.physics().time_s();
+  }
+  rig_.advance(0.01);  // the physics notes the motor-off time on its next step
+  rig_.drain(samples_, events_);
+  ASSERT_GE(left_band_at, 0.0) << "the leak never took the IOP out of its band";
+  EXPECT_EQ(rig_.status().fault, FaultCode::kIopOutOfRange);
+  const sim::RigTruth truth = rig_.physics().truth();
+  ASSERT_FALSE(truth.motor_powered);
+  const double delay = truth.motor_off_time_s - left_band_at;
+  std::cout << "motor off " << delay * 1e3 << " ms after the IOP left its band\n";
+  EXPECT_GE(delay, 0.1 - 2 * kPeriod_s) << "iop.fault_after_ms (100 ms) must pass first: a pump step is not a leak";
+  EXPECT_LE(delay, 0.1 + 5 * kPeriod_s) << "noise at the band edge may restart the count for a few cycles";
+  expect_run_kept_with(FaultCode::kIopOutOfRange);
+}
+
+TEST_F(InterlockTest, AShortIopDipBelowFaultAfterMsDoesNotFaultTheRun) {
+  rig_.physics().faults().iop_leak_fraction = 0.9;
+  for (int ms = 0; ms < 3000 && std::abs(rig_.status().iop_mmHg - 15.0) <= 5.0; ++ms) rig_.advance(kPeriod_s);
+  ASSERT_GT(std::abs(rig_.status().iop_mmHg - 15.0), 5.0) << "the leak never took the IOP out of its band";
+  rig_.advance(0.03);  // 30 ms outside the band, then the leak closes
+  rig_.physics().faults().iop_leak_fraction = 0.0;
+  rig_.advance(1.0);
+  EXPECT_NE(rig_.status().fault, FaultCode::kIopOutOfRange);
+  EXPECT_EQ(rig_.status().state, RunState::kCutting);
+}
+
 TEST_F(InterlockTest, AnOverrunStormStopsTheMotor) {
   for (int i = 0; i < 8; ++i) {
     rig_.clock().add_wakeup_delay(3'000'000);  // wake up 3 ms late

@@ -89,8 +89,33 @@ TEST(RunCsv, WritingAndReadingGivesTheSameRun) {
   EXPECT_EQ(back.channels[0].values, run.channels[0].values);
 }
 
+TEST(RunCsv, NotesWithNewlinesAndBackslashesSurviveTheRoundTrip) {
+  RunData run;
+  run.meta = {{"eye_id", "E2"}, {"notes", "blade chipped\nre-run on E3\r\nC:\\data\\e2 and a literal \\n"}};
+  run.t_s = {0.0, 0.001};
+  run.x_mm = {0.0, 0.002};
+  run.force_N = {0.0, 0.001};
+  std::stringstream text;
+  write_run_csv(run, text);
+  const std::string written = text.str();
+  const std::string notes_line = written.substr(written.find("# notes: "), written.find("re-run") - written.find("# notes: "));
+  EXPECT_EQ(notes_line.find('\n'), std::string::npos) << "the notes stay on their metadata line:\n" << written;
+  const RunData back = read_run_csv(text, "notes.csv");
+  EXPECT_EQ(back.meta, run.meta);
+  EXPECT_EQ(back.size(), 2U);
+}
+
+TEST(RunCsv, AVeryLongMetadataLineIsReadWithoutRecursion) {
+  const std::string value(2'000'000, 'a');
+  std::istringstream in("# notes: " + value + "\n# iop_mmHg: 15\nt_s,x_mm,force_N\n0,0,0\n");
+  const RunData run = read_run_csv(in, "long.csv");
+  EXPECT_EQ(run.text("notes")->size(), value.size());
+  EXPECT_EQ(error_for("# 9key: 1\nt_s,x_mm,force_N\n0,0,0\n"), "bad.csv:1: metadata line is not '# key: value'");
+  EXPECT_EQ(error_for("# key value\nt_s,x_mm,force_N\n0,0,0\n"), "bad.csv:1: metadata line is not '# key: value'");
+}
+
 TEST(RunCsv, TheDigitisedNeedleDataImports) {
-  const RunData run = read_run_csv(testing::shared_dir("data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const RunData run = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   EXPECT_GT(run.size(), 800U);
   EXPECT_EQ(run.number("velocity_mm_s"), 10.0);
   EXPECT_EQ(run.warnings.size(), 1U);  // no IOP: a liver has none

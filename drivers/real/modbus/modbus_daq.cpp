@@ -60,6 +60,8 @@ IoStatus ModbusDaq::fail(int error_number) noexcept {
     // in flight has had a cycle to arrive. The stream is back in step within one cycle.
     modbus_flush(ctx_.get());
     flush_before_next_ = true;
+    awaiting_late_reply_ = status == IoStatus::kTimeout;
+    cycles_awaiting_ = 0;
   }
   return status;
 }
@@ -92,8 +94,17 @@ IoStatus ModbusDaq::read(AnalogFrame& frame) noexcept {
   input_status_ = ensure_connected();
   if (input_status_ != IoStatus::kOk) return input_status_;
   if (flush_before_next_) {
-    modbus_flush(ctx_.get());
+    const int flushed = modbus_flush(ctx_.get());
+    // The answer to a timed-out request is still on its way: a request sent now would queue
+    // behind it in the DAQ, and a slow DAQ would never catch up. One outstanding request at a
+    // time, as a Modbus master on a line; after kMaxCyclesAwaiting the answer counts as lost.
+    if (awaiting_late_reply_ && flushed <= 0 && ++cycles_awaiting_ < kMaxCyclesAwaiting) {
+      ++counters_.timeouts;
+      input_status_ = IoStatus::kTimeout;
+      return input_status_;
+    }
     flush_before_next_ = false;
+    awaiting_late_reply_ = false;
   }
   ++counters_.transactions;
   std::uint16_t block[reg::input::kCount] = {};

@@ -51,6 +51,9 @@ class ModbusDaq final : public AnalogInput, public ActuatorDrive, public Digital
   ModbusContextPtr ctx_;
   bool connected_ = false;
   bool flush_before_next_ = false;
+  bool awaiting_late_reply_ = false;  // the last request timed out; its answer may still come
+  int cycles_awaiting_ = 0;
+  static constexpr int kMaxCyclesAwaiting = 2;  // cycles to wait for it before asking anew
   int cycles_since_attempt_ = 0;
   IoStatus input_status_ = IoStatus::kNotReady;
   DigitalInputs digital_{};  // from this cycle's input block

@@ -4,6 +4,22 @@
 
 namespace rig::model::effects {
 
+const std::vector<std::string>& CovariateScaling::form_names() {
+  static const std::vector<std::string> kNames = {"per phase, quadratic", "exponential, all phases", "linear, all phases",
+                                                  "after the puncture only", "before the puncture only"};
+  return kNames;
+}
+
+std::vector<ParamSpec> CovariateScaling::shared_params() const {
+  switch (form_) {
+    case kExponential: return {{"c", "1", 0.0, -2.0, 2.0}};
+    case kLinear: return {{"c_lin", "1", 0.0, -0.9, 0.9}};
+    case kAfterPuncture: return {{"c_cut", "1", 0.0, -2.0, 2.0}};
+    case kBeforePuncture: return {{"c_pre", "1", 0.0, -2.0, 2.0}};
+    default: return {{"c1", "1", 0.0, -2.0, 2.0}, {"c2", "1", 0.0, -1.0, 1.0}, {"c3", "1", 0.0, -2.0, 2.0}, {"c4", "1", 0.0, -1.0, 1.0}};
+  }
+}
+
 bool CovariateScaling::applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const {
   for (const PreparedRun* r : runs) {
     if (!r->covariate(key_, 0)) {
@@ -17,14 +33,30 @@ bool CovariateScaling::applicable(const std::vector<const PreparedRun*>& runs, s
 
 double CovariateScaling::scale(const SampleView& s, const double* p) const {
   const double z = (s.run->covariate(key_, s.i).value_or(mean_) - mean_) / spread_;
-  return s.after_puncture ? std::exp(p[2] * z + p[3] * z * z) : std::exp(p[0] * z + p[1] * z * z);
+  switch (form_) {
+    case kExponential: return std::exp(p[0] * z);
+    case kLinear: return std::max(0.05, 1.0 + p[0] * z);
+    case kAfterPuncture: return s.after_puncture ? std::exp(p[0] * z) : 1.0;
+    case kBeforePuncture: return s.after_puncture ? 1.0 : std::exp(p[0] * z);
+    default: return s.after_puncture ? std::exp(p[2] * z + p[3] * z * z) : std::exp(p[0] * z + p[1] * z * z);
+  }
 }
 
 std::string CovariateScaling::evidence(const EvidenceInput& in) const {
-  const double per_unit_pre = 100.0 * in.shared[0] / spread_;
-  const double per_unit_post = 100.0 * in.shared[2] / spread_;
-  return format("tissue force changes %+.1f %% per unit of ", per_unit_pre) + key_ +
-         format(" before the puncture and %+.1f %% per unit after it (runs span %.3g +- %.3g)", per_unit_post, mean_, spread_);
+  const double* p = in.shared;
+  const double per_unit = 100.0 * p[0] / spread_;  // the slope at the mean [% per unit]
+  const std::string span = format(" (runs span %.3g +- %.3g)", mean_, spread_);
+  std::string text;
+  switch (form_) {
+    case kExponential: text = format("exponential in the covariate, all phases: tissue force changes %+.1f %% per unit of ", per_unit) + key_; break;
+    case kLinear: text = format("linear in the covariate, all phases: tissue force changes %+.1f %% per unit of ", per_unit) + key_; break;
+    case kAfterPuncture: text = format("acts after the puncture only: cutting force changes %+.1f %% per unit of ", per_unit) + key_; break;
+    case kBeforePuncture: text = format("acts before the puncture only: pre-cut force changes %+.1f %% per unit of ", per_unit) + key_; break;
+    default:
+      text = format("per phase: tissue force changes %+.1f %% per unit of ", per_unit) + key_ +
+             format(" before the puncture and %+.1f %% per unit after it", 100.0 * p[2] / spread_);
+  }
+  return text + span + honesty(in);
 }
 
 }  // namespace rig::model::effects

@@ -1,19 +1,25 @@
 #pragma once
 // covariate:<key>: a run covariate (numeric metadata, or an extra channel) the model does
-// not use scales the tissue force, separately before and after the puncture:
-// F *= exp(c1 z + c2 z^2) (pre-cut), exp(c3 z + c4 z^2) (after), z = (value - mean) / spread.
-#include "effect_term.hpp"
+// not use scales the tissue force; z = (value - mean) / spread. The family covers where and
+// how it acts:
+//   per phase, quadratic     exp(c1 z + c2 z^2) before the puncture, exp(c3 z + c4 z^2) after
+//   exponential, all phases  exp(c z)
+//   linear, all phases       1 + c_lin z
+//   after the puncture only  exp(c_cut z) once punctured, 1 before
+//   before the puncture only exp(c_pre z) before the puncture, 1 after
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class CovariateScaling final : public EffectTerm {
+class CovariateScaling final : public FamilyTerm {
  public:
-  CovariateScaling(std::string key, double mean, double spread) : key_(std::move(key)), mean_(mean), spread_(spread) {}
+  enum Form { kPerPhase = 0, kExponential, kLinear, kAfterPuncture, kBeforePuncture };
+  CovariateScaling(std::string key, double mean, double spread, int form = kPerPhase)
+      : FamilyTerm(form_names(), form), key_(std::move(key)), mean_(mean), spread_(spread) {}
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "covariate:" + key_; }
   std::string meaning() const override { return "run covariate '" + key_ + "' scales the tissue force"; }
-  std::vector<ParamSpec> shared_params() const override {
-    return {{"c1", "1", 0.0, -2.0, 2.0}, {"c2", "1", 0.0, -1.0, 1.0}, {"c3", "1", 0.0, -2.0, 2.0}, {"c4", "1", 0.0, -1.0, 1.0}};
-  }
+  std::vector<ParamSpec> shared_params() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;

@@ -6,6 +6,27 @@
 
 namespace rig::model::effects {
 
+const std::vector<std::string>& IopStiffness::form_names() {
+  static const std::vector<std::string> kNames = {"exponential", "exponential-quadratic", "linear", "saturating"};
+  return kNames;
+}
+
+std::vector<ParamSpec> IopStiffness::shared_params() const {
+  switch (form_) {
+    case kExponential: return {{"k", "1/mmHg", 0.0, -0.5, 0.5}};
+    case kLinear: return {{"k_lin", "1/mmHg", 0.0, -0.2, 2.0}};
+    case kSaturating: return {{"A", "1", 0.0, -0.9, 5.0}, {"P0", "mmHg", 3.0, 0.3, 50.0}};
+    default: return {{"k1", "1/mmHg", 0.0, -0.5, 0.5}, {"k2", "1/mmHg^2", 0.0, -0.2, 0.2}};
+  }
+}
+
+std::vector<std::vector<double>> IopStiffness::starts() const {
+  if (form_ != kSaturating) return EffectTerm::starts();
+  std::vector<std::vector<double>> out;  // A = 0 leaves P0 without a gradient
+  for (const double p0 : {1.0, 3.0, 10.0}) out.push_back({0.3, p0}), out.push_back({-0.2, p0});
+  return out;
+}
+
 bool IopStiffness::applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const {
   double lo = 1e9, hi = -1e9;
   for (const PreparedRun* r : runs) {
@@ -17,21 +38,35 @@ bool IopStiffness::applicable(const std::vector<const PreparedRun*>& runs, std::
   return hi - lo >= 0.9;
 }
 
+double IopStiffness::factor(double dp, const double* p) const {
+  switch (form_) {
+    case kExponential: return std::exp(p[0] * dp);
+    case kLinear: return std::max(0.05, 1.0 + p[0] * dp);
+    case kSaturating: return std::max(0.05, 1.0 + p[0] * std::tanh(dp / p[1]));
+    default: return std::exp(p[0] * dp + p[1] * dp * dp);
+  }
+}
+
 void IopStiffness::adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const {
   if (!run.iop_known) return;
-  const double dp = run.iop_mmHg - 15.0;
-  const double factor = std::exp(p[0] * dp + p[1] * dp * dp);
-  model.a *= factor;
-  model.b *= factor;
+  const double f = factor(run.iop_mmHg - 15.0, p);
+  model.a *= f;
+  model.b *= f;
 }
 
 std::string IopStiffness::evidence(const EvidenceInput& in) const {
   double lo = 1e9, hi = -1e9;
   for (const PreparedRun* r : in.runs) lo = std::min(lo, r->iop_mmHg), hi = std::max(hi, r->iop_mmHg);
-  const double dp = hi - 15.0;
-  const double change = std::exp(in.shared[0] * dp + in.shared[1] * dp * dp) - 1.0;
-  return format("pre-cut stiffness changes %+.1f %% per mmHg (%+.1f %% at %.0f mmHg against 15 mmHg)", 100.0 * in.shared[0],
-                100.0 * change, hi);
+  const double* p = in.shared;
+  std::string law;
+  switch (form_) {
+    case kExponential: law = format("exponential in IOP, %+.1f %% per mmHg: ", 100.0 * p[0]); break;
+    case kLinear: law = format("linear in IOP, %+.1f %% of the 15 mmHg stiffness per mmHg: ", 100.0 * p[0]); break;
+    case kSaturating: law = format("saturating in IOP, at most %+.0f %%, half-way by about %.1f mmHg: ", 100.0 * p[0], 0.55 * p[1]); break;
+    default: law = format("exponential-quadratic in IOP, %+.1f %% per mmHg, curvature %+.3f /mmHg^2: ", 100.0 * p[0], p[1]); break;
+  }
+  return law + format("pre-cut stiffness is %+.1f %% at %.0f mmHg and %+.1f %% at %.0f mmHg against 15 mmHg",
+                      100.0 * (factor(lo - 15.0, p) - 1.0), lo, 100.0 * (factor(hi - 15.0, p) - 1.0), hi) + honesty(in);
 }
 
 }  // namespace rig::model::effects

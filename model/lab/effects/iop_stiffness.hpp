@@ -1,20 +1,27 @@
 #pragma once
-// iop_stiffness: the pre-cut stiffness of the cornea (toe a and slope b of Eq. 1) rises
-// with IOP: a, b *= exp(k1 dP + k2 dP^2), dP = IOP - 15 mmHg.
-#include "effect_term.hpp"
+// iop_stiffness: the pre-cut stiffness of the cornea (toe a and slope b of Eq. 1) depends
+// on IOP, dP = IOP - 15 mmHg. The family covers the laws of a pressurised shell:
+//   exponential            a, b *= exp(k dP)
+//   exponential-quadratic  a, b *= exp(k1 dP + k2 dP^2)
+//   linear                 a, b *= 1 + k_lin dP
+//   saturating             a, b *= 1 + A tanh(dP / P0)
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class IopStiffness final : public EffectTerm {
+class IopStiffness final : public FamilyTerm {
  public:
+  enum Form { kExponential = 0, kExponentialQuadratic, kLinear, kSaturating };
+  explicit IopStiffness(int form = kExponentialQuadratic) : FamilyTerm(form_names(), form) {}
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "iop_stiffness"; }
   std::string meaning() const override { return "pre-cut stiffness depends on intraocular pressure"; }
-  std::vector<ParamSpec> shared_params() const override {
-    return {{"k1", "1/mmHg", 0.0, -0.5, 0.5}, {"k2", "1/mmHg^2", 0.0, -0.2, 0.2}};
-  }
+  std::vector<ParamSpec> shared_params() const override;
+  std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  double factor(double dp_mmHg, const double* p) const;
 };
 
 }  // namespace rig::model::effects

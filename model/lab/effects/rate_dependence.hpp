@@ -1,22 +1,28 @@
 #pragma once
-// rate_dependence: tissue force depends on the keratome velocity (viscoelastic cornea).
-// F_tissue *= exp(b1 u + b2 u^2), u = ln(v / v_ref): a power law when b2 = 0, and close to
-// a linear law over the lab's 0.5-4 mm/s.
-#include "effect_term.hpp"
+// rate_dependence: tissue force depends on the keratome velocity v (viscoelastic cornea),
+// relative to the model's velocity v_ref. The family covers the laws used for soft tissue:
+//   power law           F *= (v/v_ref)^n
+//   log-quadratic       F *= exp(b1 u + b2 u^2), u = ln(v/v_ref)   (curved power law)
+//   linear              F *= 1 + c (v - v_ref)
+//   saturating          F *= (1 + A h(v)) / (1 + A h(v_ref)), h(v) = v / (v + v_c)   (Carreau-like)
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class RateDependence final : public EffectTerm {
+class RateDependence final : public FamilyTerm {
  public:
-  explicit RateDependence(double reference_velocity_mm_s) : v_ref_(reference_velocity_mm_s) {}
+  enum Form { kPowerLaw = 0, kLogQuadratic, kLinear, kSaturating };
+  explicit RateDependence(double reference_velocity_mm_s, int form = kLogQuadratic)
+      : FamilyTerm(form_names(), form), v_ref_(reference_velocity_mm_s) {}
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "rate_dependence"; }
   std::string meaning() const override { return "tissue force grows with keratome velocity (viscoelasticity)"; }
-  std::vector<ParamSpec> shared_params() const override {
-    return {{"b1", "1 per ln(v)", 0.0, -2.0, 2.0}, {"b2", "1 per ln(v)^2", 0.0, -2.0, 2.0}};
-  }
+  std::vector<ParamSpec> shared_params() const override;
+  std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  double factor(double velocity_mm_s, const double* p) const;
 
  private:
   double v_ref_;

@@ -4,16 +4,49 @@
 
 namespace rig::model::effects {
 
-double RigCompliance::x_shift(const SampleView& s, const double* p) const {
-  const double f = std::max(s.force_N, 0.0);
-  return p[0] * f + p[1] * f * f;
+const std::vector<std::string>& RigCompliance::form_names() {
+  static const std::vector<std::string> kNames = {"linear", "polynomial", "stiffening"};
+  return kNames;
 }
+
+std::vector<ParamSpec> RigCompliance::shared_params() const {
+  switch (form_) {
+    case kLinear: return {{"c", "mm/N", 0.0, -0.5, 3.0}};
+    case kStiffening: return {{"c_0", "mm/N", 0.0, -0.5, 10.0}, {"F0", "N", 0.2, 0.005, 5.0}};
+    default: return {{"c1", "mm/N", 0.0, -0.5, 3.0}, {"c2", "mm/N^2", 0.0, -10.0, 10.0}};
+  }
+}
+
+std::vector<std::vector<double>> RigCompliance::starts() const {
+  if (form_ != kStiffening) return EffectTerm::starts();
+  std::vector<std::vector<double>> out;  // c_0 = 0 leaves F0 without a gradient
+  for (const double f0 : {0.05, 0.2, 1.0}) out.push_back({0.3, f0});
+  return out;
+}
+
+double RigCompliance::lag(double force_N, const double* p) const {
+  const double f = std::max(force_N, 0.0);
+  switch (form_) {
+    case kLinear: return p[0] * f;
+    case kStiffening: return p[0] * f / (1.0 + f / p[1]);
+    default: return p[0] * f + p[1] * f * f;
+  }
+}
+
+double RigCompliance::x_shift(const SampleView& s, const double* p) const { return lag(s.force_N, p); }
 
 std::string RigCompliance::evidence(const EvidenceInput& in) const {
   const double f = 0.2;  // a typical puncture force [N]
-  const double lag = in.shared[0] * f + in.shared[1] * f * f;
-  return format("the tip lags the carriage by %.3f mm at %.1f N (mount stiffness about %.2f N/mm)", lag, f,
-                lag > 1e-9 ? f / lag : 0.0);
+  const double* p = in.shared;
+  const double at = lag(f, p);
+  std::string mount;
+  switch (form_) {
+    case kLinear: mount = "linear mount: "; break;
+    case kStiffening: mount = format("stiffening mount (stiffness doubles by %.3f N): ", p[1]); break;
+    default: mount = p[1] < 0.0 ? "stiffening mount (polynomial): " : "softening mount (polynomial): "; break;
+  }
+  return mount + format("the tip lags the carriage by %.3f mm at %.1f N (mount stiffness about %.2f N/mm)", at, f, at > 1e-9 ? f / at : 0.0) +
+         honesty(in);
 }
 
 }  // namespace rig::model::effects

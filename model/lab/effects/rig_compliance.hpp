@@ -1,20 +1,28 @@
 #pragma once
 // rig_compliance: the load cell and keratome mount give way, so the tip lags the measured
-// carriage by c1 F + c2 F^2 (a stiffening mount has c2 < 0): the model is evaluated at the
-// tip, x - c1 F - c2 F^2, with F the measured force.
-#include "effect_term.hpp"
+// carriage by a shift that grows with the measured force F; the model is evaluated at the
+// tip, x - shift(F). The family covers the mounts of a bench rig:
+//   linear       shift = c F                      (a spring)
+//   polynomial   shift = c1 F + c2 F^2            (softening c2 > 0, stiffening c2 < 0)
+//   stiffening   shift = c F / (1 + F / F0)       (a hardening mount: stiffness grows with load)
+// A dead band at reversal (backlash) is not in the family: the model's release after the
+// deepest point depends on the distance behind it, which a displacement shift cannot change.
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class RigCompliance final : public EffectTerm {
+class RigCompliance final : public FamilyTerm {
  public:
+  enum Form { kLinear = 0, kPolynomial, kStiffening };
+  explicit RigCompliance(int form = kPolynomial) : FamilyTerm(form_names(), form) {}
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "rig_compliance"; }
   std::string meaning() const override { return "the keratome tip lags the measured carriage by F/k (compliant mount)"; }
-  std::vector<ParamSpec> shared_params() const override {
-    return {{"c1", "mm/N", 0.0, -0.5, 3.0}, {"c2", "mm/N^2", 0.0, -10.0, 10.0}};
-  }
+  std::vector<ParamSpec> shared_params() const override;
+  std::vector<std::vector<double>> starts() const override;
   double x_shift(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  double lag(double force_N, const double* p) const;
 };
 
 }  // namespace rig::model::effects

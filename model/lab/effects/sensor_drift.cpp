@@ -1,27 +1,82 @@
 #include "sensor_drift.hpp"
 
+#include <algorithm>
+
 #include "effect_util.hpp"
 
 namespace rig::model::effects {
 
-void SensorDrift::design(const SampleView& s, const double* /*p*/, double* row) const {
+const std::vector<std::string>& SensorDrift::form_names() {
+  static const std::vector<std::string> kNames = {"polynomial", "thermal", "piecewise-linear"};
+  return kNames;
+}
+
+std::vector<ParamSpec> SensorDrift::shared_params() const {
+  if (form_ == kThermal) return {{"tau_drift", "s", 10.0, 0.3, 1000.0}};
+  if (form_ == kPiecewiseLinear) return {{"knots", kFormLabelUnit, kKnots, kKnots - 0.5, kKnots + 0.5}};
+  return {};
+}
+
+std::vector<std::vector<double>> SensorDrift::starts() const {
+  if (form_ != kThermal) return EffectTerm::starts();
+  return {{1.0}, {3.0}, {10.0}, {30.0}, {100.0}};
+}
+
+int SensorDrift::linear_columns() const { return form_ == kPiecewiseLinear ? kKnots : (form_ == kThermal ? 2 : 3); }
+
+namespace {
+
+// Hat function k of `knots` evenly spaced over [t0, t1] at t.
+double hat(double t, double t0, double t1, int k, int knots) {
+  const double step = std::max(t1 - t0, 1e-6) / (knots - 1);
+  return std::max(0.0, 1.0 - std::abs((t - t0) / step - k));
+}
+
+}  // namespace
+
+void SensorDrift::design(const SampleView& s, const double* p, double* row) const {
+  if (form_ == kThermal) {
+    row[0] = 1.0;
+    row[1] = -std::expm1(-std::max(s.t_s - s.run->data->t_s.front(), 0.0) / p[0]);
+    return;
+  }
+  if (form_ == kPiecewiseLinear) {
+    const auto& t = s.run->data->t_s;
+    for (int k = 0; k < kKnots; ++k) row[k] = hat(s.t_s, t.front(), t.back(), k, kKnots);
+    return;
+  }
   const double t = s.t_s / 10.0;  // scaled for conditioning
   row[0] = 1.0;
   row[1] = t;
   row[2] = t * t;
 }
 
+double SensorDrift::drift(const PreparedRun& run, const Eigen::VectorXd& c, const double* p, double t_s) const {
+  std::vector<double> row(static_cast<std::size_t>(linear_columns())), first(row.size());
+  SampleView s{&run, 0, 0.0, t_s};
+  design(s, p, row.data());
+  s.t_s = run.data->t_s.front();
+  design(s, p, first.data());
+  double value = 0.0;
+  for (std::size_t k = 0; k < row.size() && static_cast<Eigen::Index>(k) < c.size(); ++k) value += c(static_cast<Eigen::Index>(k)) * (row[k] - first[k]);
+  return value;
+}
+
 std::string SensorDrift::evidence(const EvidenceInput& in) const {
   double worst = 0.0, rate = 0.0;
   for (std::size_t r = 0; r < in.runs.size() && r < in.run_coefficients.size(); ++r) {
     const auto& c = in.run_coefficients[r];
-    if (c.size() < 3) continue;
-    const double span = in.runs[r]->data->t_s.back() / 10.0;
-    const double change = std::abs(c(1) * span + c(2) * span * span);
-    if (change > worst) worst = change, rate = change / (span * 10.0);
+    if (c.size() < linear_columns()) continue;
+    const auto& t = in.runs[r]->data->t_s;
+    double change = 0.0;
+    for (int k = 1; k <= 20; ++k) change = std::max(change, std::abs(drift(*in.runs[r], c, in.shared, t.front() + (t.back() - t.front()) * k / 20.0)));
+    if (change > worst) worst = change, rate = change / std::max(t.back() - t.front(), 1e-6);
   }
-  return format("the force offset moves by up to %.4f N within a run (about %.2f mN/s), differently in every run",
-                worst, rate * 1e3);
+  std::string shape = "polynomial drift: ";
+  if (form_ == kThermal) shape = format("thermal drift (first-order warm-up, %.1f s): ", in.shared[0]);
+  if (form_ == kPiecewiseLinear) shape = "random-walk-like drift (piecewise-linear per run): ";
+  return shape + format("the force offset moves by up to %.4f N within a run (about %.2f mN/s), differently in every run", worst, rate * 1e3) +
+         honesty(in);
 }
 
 }  // namespace rig::model::effects

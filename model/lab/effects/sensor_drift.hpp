@@ -1,17 +1,28 @@
 #pragma once
-// sensor_drift: the load-cell offset wanders during a run (warm-up, temperature): a
-// per-run offset + slope + curvature in time, fitted on each run's own data.
-#include "effect_term.hpp"
+// sensor_drift: the load-cell offset wanders during a run, differently in every run, so
+// its shape has per-run coefficients fitted on each run's own data. The family:
+//   polynomial         offset + slope t + curvature t^2
+//   thermal            offset + A (1 - exp(-t/tau)), tau shared (first-order warm-up)
+//   piecewise-linear   a hat-function spline with 6 knots over the run (random-walk-like)
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class SensorDrift final : public EffectTerm {
+class SensorDrift final : public FamilyTerm {
  public:
+  enum Form { kPolynomial = 0, kThermal, kPiecewiseLinear };
+  static constexpr int kKnots = 6;
+  explicit SensorDrift(int form = kPolynomial) : FamilyTerm(form_names(), form) {}
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "sensor_drift"; }
   std::string meaning() const override { return "load-cell offset drifting with time during a run (instrument)"; }
-  int linear_columns() const override { return 3; }
+  std::vector<ParamSpec> shared_params() const override;
+  std::vector<std::vector<double>> starts() const override;
+  int linear_columns() const override;
   void design(const SampleView& s, const double* p, double* row) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  // The drift of a run with coefficients c at time t [N] (0 at the first sample).
+  double drift(const PreparedRun& run, const Eigen::VectorXd& c, const double* p, double t_s) const;
 };
 
 }  // namespace rig::model::effects

@@ -6,6 +6,33 @@
 
 namespace rig::model::effects {
 
+ShaftFriction::ShaftFriction(int form) : FamilyTerm(form_names(), form) {}
+
+const std::vector<std::string>& ShaftFriction::form_names() {
+  static const std::vector<std::string> kNames = {"coulomb", "saturating", "viscous", "coulomb + viscous", "asymmetric", "static breakaway"};
+  return kNames;
+}
+
+std::vector<ParamSpec> ShaftFriction::shared_params() const {
+  const ParamSpec mu{"mu", "N/mm", 0.0, -0.1, 0.1};
+  const ParamSpec eta{"eta", "N s/mm^2", 0.0, -0.05, 0.05};
+  switch (form_) {
+    case kCoulomb: return {mu};
+    case kViscous: return {eta};
+    case kCoulombViscous: return {mu, eta};
+    case kAsymmetric: return {{"mu_in", "N/mm", 0.0, -0.1, 0.1}, {"mu_out", "N/mm", 0.0, -0.1, 0.1}};
+    case kBreakaway: return {mu, {"mu_s", "N/mm", 0.0, -0.1, 0.2}, {"v_s", "mm/s", 0.3, 0.01, 5.0}};
+    default: return {mu, {"kappa", "1/mm", 0.0, -0.3, 3.0}};
+  }
+}
+
+std::vector<std::vector<double>> ShaftFriction::starts() const {
+  if (form_ != kBreakaway) return EffectTerm::starts();
+  std::vector<std::vector<double>> out;  // the static excess needs a start off zero, or v_s has no gradient
+  for (const double v_s : {0.05, 0.2, 1.0}) out.push_back({0.003, 0.005, v_s});
+  return out;
+}
+
 bool ShaftFriction::applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const {
   for (const PreparedRun* r : runs) {
     if (r->seg.punctured) return true;
@@ -23,23 +50,54 @@ double effective_length(double length_mm, double kappa) {
   return -std::expm1(-kappa * length_mm) / kappa;
 }
 
+// Friction opposes the motion: the phase gives its direction (a velocity estimate smears the
+// sign flip at the turnaround, which takes about a millisecond).
+double motion_direction(const SampleView& s) {
+  if (s.i == s.run->seg.insertion_end) return 0.0;  // the turnaround itself: at rest
+  return s.phase == Phase::kRetraction ? -1.0 : (s.phase == Phase::kHold ? 0.0 : 1.0);
+}
+
 }  // namespace
 
 double ShaftFriction::add(const SampleView& s, const double* p, double /*force_N*/) const {
-  if (s.inserted_mm <= 0.0) return 0.0;
-  // Friction opposes the motion: the phase gives its direction (a velocity estimate smears
-  // the sign flip at the turnaround, which takes about a millisecond).
-  double direction = s.phase == Phase::kRetraction ? -1.0 : (s.phase == Phase::kHold ? 0.0 : 1.0);
-  if (s.i == s.run->seg.insertion_end) direction = 0.0;  // the turnaround itself: at rest
-  return p[0] * effective_length(s.inserted_mm, p[1]) * direction;
+  const double length = s.inserted_mm;
+  if (length <= 0.0) return 0.0;
+  const double dir = motion_direction(s);
+  switch (form_) {
+    case kCoulomb: return p[0] * length * dir;
+    case kViscous: return p[0] * length * s.velocity_mm_s;
+    case kCoulombViscous: return (p[0] * dir + p[1] * s.velocity_mm_s) * length;
+    case kAsymmetric: return length * (dir > 0.0 ? p[0] : (dir < 0.0 ? -p[1] : 0.0));
+    case kBreakaway: return length * dir * (p[0] + p[1] * std::exp(-std::abs(s.velocity_mm_s) / p[2]));
+    default: return p[0] * effective_length(length, p[1]) * dir;
+  }
 }
 
 std::string ShaftFriction::evidence(const EvidenceInput& in) const {
-  double deepest = 0.0;  // inserted length at the deepest point, from the detected puncture
-  for (const PreparedRun* r : in.runs) deepest = std::max(deepest, r->seg.max_depth_mm - r->seg.x_pi_mm);
-  const double at_depth = in.shared[0] * effective_length(deepest, in.shared[1]);
-  return format("after the puncture the residual grows %.4f N/mm with inserted blade length and reverses sign on "
-                "retraction (%.3f N at %.1f mm inserted)", in.shared[0], at_depth, deepest);
+  double deepest = 0.0, speed = 0.0;  // inserted length at the deepest point, from the detected puncture; fastest run
+  for (const PreparedRun* r : in.runs) {
+    deepest = std::max(deepest, r->seg.max_depth_mm - r->seg.x_pi_mm);
+    speed = std::max(speed, r->velocity_cmd_mm_s);
+  }
+  const double* p = in.shared;
+  std::string text;
+  switch (form_) {
+    case kCoulomb: text = format("coulomb friction: %.4f N per mm inserted, reversing on retraction (%.3f N at %.1f mm)", p[0], p[0] * deepest, deepest); break;
+    case kViscous: text = format("viscous friction: %.4f N per mm inserted per mm/s (%.3f N at %.1f mm and %.1f mm/s)", p[0], p[0] * deepest * speed, deepest, speed); break;
+    case kCoulombViscous:
+      text = format("viscous + coulomb friction: %.4f N/mm inserted plus %.4f N/mm per mm/s (%.3f N at %.1f mm", p[0], p[1],
+                    (p[0] + p[1] * speed) * deepest, deepest) + format(" and %.1f mm/s)", speed);
+      break;
+    case kAsymmetric: text = format("direction-asymmetric friction: %.4f N/mm inserting, %.4f N/mm retracting (%.3f N at %.1f mm inserting)", p[0], p[1], p[0] * deepest, deepest); break;
+    case kBreakaway:
+      text = format("coulomb friction with static breakaway: %.4f N/mm sliding, %.4f N/mm more at rest, fading by %.2f mm/s (%.3f N sliding at ", p[0], p[1], p[2], p[0] * deepest) +
+             format("%.1f mm)", deepest);
+      break;
+    default:
+      text = format("saturating friction: the residual grows %.4f N/mm with inserted blade length (saturating at %.2f /mm) and reverses sign on "
+                    "retraction (%.3f N at %.1f mm inserted)", p[0], p[1], p[0] * effective_length(deepest, p[1]), deepest);
+  }
+  return text + honesty(in);
 }
 
 }  // namespace rig::model::effects

@@ -1,19 +1,27 @@
 #pragma once
 // shaft_friction: once punctured, the blade's shaft rubs along the incision: a force that
-// grows with the inserted length L past the puncture and opposes motion (it reverses on
-// retraction): F += mu (1 - exp(-kappa L)) / kappa * direction (+1 inserting, 0 held, -1
-// retracting). kappa = 0 is linear in L, kappa > 0 saturates (the shaft's own length).
-#include "effect_term.hpp"
+// grows with the inserted length L past the puncture and opposes motion (+1 inserting, 0
+// held, -1 retracting, from the phase). The family covers the friction laws of a blade in
+// tissue:
+//   coulomb             mu L dir                      (constant per inserted length)
+//   saturating          mu (1 - exp(-kappa L))/kappa dir   (the shaft's own length)
+//   viscous             eta L v                       (v the signed velocity [mm/s])
+//   coulomb + viscous   (mu dir + eta v) L
+//   asymmetric          L (mu_in inserting, -mu_out retracting)
+//   static breakaway    L dir (mu + mu_s exp(-|v|/v_s))   (Stribeck: more at rest/reversal)
+#include "family_term.hpp"
 
 namespace rig::model::effects {
 
-class ShaftFriction final : public EffectTerm {
+class ShaftFriction final : public FamilyTerm {
  public:
+  enum Form { kCoulomb = 0, kSaturating, kViscous, kCoulombViscous, kAsymmetric, kBreakaway };
+  explicit ShaftFriction(int form = kSaturating);
+  static const std::vector<std::string>& form_names();
   std::string name() const override { return "shaft_friction"; }
   std::string meaning() const override { return "friction along the inserted blade, growing with inserted length, opposing motion"; }
-  std::vector<ParamSpec> shared_params() const override {
-    return {{"mu", "N/mm", 0.0, -0.1, 0.1}, {"kappa", "1/mm", 0.0, -0.3, 3.0}};
-  }
+  std::vector<ParamSpec> shared_params() const override;
+  std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   double add(const SampleView& s, const double* p, double force_N) const override;
   std::string evidence(const EvidenceInput& in) const override;

@@ -4,20 +4,34 @@
 
 namespace rig::model::effects {
 
+const std::vector<std::string>& SpatialRipple::form_names() {
+  static const std::vector<std::string> kNames = {"3 harmonics", "sine"};
+  return kNames;
+}
+
+std::vector<ParamSpec> SpatialRipple::shared_params() const {
+  std::vector<ParamSpec> out = {{"period", "mm", 1.0, 0.2, 5.0}};
+  if (form_ == kSine) out.push_back({"harmonics", kFormLabelUnit, 1.0, 0.5, 1.5});
+  return out;
+}
+
 std::vector<std::vector<double>> SpatialRipple::starts() const {
   std::vector<std::vector<double>> out;
-  for (double period = 0.25; period <= 4.0; period *= 1.01) out.push_back({period});  // a ripple stays coherent over ~30 mm only within ~1 %
+  for (double period = 0.25; period <= 4.0; period *= 1.01) {  // a ripple stays coherent over ~30 mm only within ~1 %
+    out.push_back(form_ == kSine ? std::vector<double>{period, 1.0} : std::vector<double>{period});
+  }
   return out;
 }
 
 void SpatialRipple::design(const SampleView& s, const double* p, double* row) const {
-  fourier(s.x_mm / p[0], kHarmonics, row);
-  row[2 * kHarmonics] = 1.0;
+  fourier(s.x_mm / p[0], harmonics(), row);
+  row[2 * harmonics()] = 1.0;
 }
 
 std::string SpatialRipple::evidence(const EvidenceInput& in) const {
-  return format("the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f N, phase differs by run)",
-                in.shared[0], largest_amplitude(in.run_coefficients));
+  return std::string(form_ == kSine ? "sinusoidal ripple: " : "ripple with 3 harmonics: ") +
+         format("the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f N, phase differs by run)",
+                in.shared[0], largest_amplitude(in.run_coefficients)) + honesty(in);
 }
 
 }  // namespace rig::model::effects

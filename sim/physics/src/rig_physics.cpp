@@ -68,7 +68,7 @@ void RigPhysics::step_once() {
   input.iop_mmHg = iop_.pressure_mmHg();
   input.dt_s = dt;
   tissue_.update(input, rng_);
-  iop_.step(dt, drive_.pump_command, tissue_.punctured());
+  iop_.step(dt, drive_.pump_command, tissue_.punctured(), faults_.iop_leak_fraction);
   time_s_ += dt;
   maybe_swap_eye();
 

@@ -15,6 +15,7 @@ struct LoopThread {
   int priority = 80;        // SCHED_FIFO priority, 0 = do not ask for real-time
   int cpu = -1;             // pin the RT thread to this CPU, -1 = no pinning
   bool lock_memory = true;  // mlockall(MCL_CURRENT | MCL_FUTURE)
+  int cpu_wake_latency_us = 0;  // PM QoS while the loop runs: idle CPUs poll (0), -1 = no request
 };
 
 struct DaqSection {
@@ -62,6 +63,7 @@ struct ApiSection {
   std::string web_root = "/usr/share/rigd/web";
   int max_body_bytes = 65536;
   int max_clients = 64;
+  std::string allowed_origins;    // comma-separated page origins besides rigd's own (CSRF guard)
 };
 
 struct StreamSection {

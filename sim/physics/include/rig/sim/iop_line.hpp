@@ -8,7 +8,8 @@ namespace rig::sim {
 class IopLine {
  public:
   explicit IopLine(const IopLineParams& params) : p_(params), pressure_mmHg_(params.initial_mmHg) {}
-  void step(double dt_s, double pump_command, bool punctured);
+  // extra_leak: an injected leak (0..1), on top of the puncture's own.
+  void step(double dt_s, double pump_command, bool punctured, double extra_leak = 0.0);
   double pressure_mmHg() const { return pressure_mmHg_; }
   void set_pressure_mmHg(double pressure) { pressure_mmHg_ = pressure; }
 

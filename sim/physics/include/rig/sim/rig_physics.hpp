@@ -25,6 +25,7 @@ struct InjectedFaults {
   bool end_limit_forced = false;   // end switch closed regardless of position
   bool home_limit_forced = false;
   double extra_force_N = 0.0;      // collision / overload added to the load cell
+  double iop_leak_fraction = 0.0;  // a burst line or torn eye: the pressure the pump can hold falls by this fraction
 };
 
 struct RigTruth {

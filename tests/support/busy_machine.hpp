@@ -1,0 +1,40 @@
+#pragma once
+// Keeps this machine busy the way a lab PC or a CI runner is, for as long as the object
+// lives: one spinning process per core and a writer forcing data to disk (all SCHED_OTHER).
+// A browser on a page is started per cut by the load tests themselves (browser_on_page()).
+#include <thread>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+#include "test_paths.hpp"
+
+namespace rig::testing {
+
+class BusyMachine {
+ public:
+  explicit BusyMachine(const ScratchDir& dir) {
+    const unsigned cores = std::max(1U, std::thread::hardware_concurrency());
+    for (unsigned i = 0; i < cores; ++i) {
+      load_.push_back(std::make_unique<cli::ChildProcess>(std::vector<std::string>{"/bin/sh", "-c", "while :; do :; done"},
+                                                          dir.file("hog-" + std::to_string(i) + ".log")));
+    }
+    const std::string writer = "while :; do dd if=/dev/zero of=" + dir.file("busy-io") +
+                               " bs=64k count=256 oflag=dsync status=none || sleep 1; done";
+    load_.push_back(std::make_unique<cli::ChildProcess>(std::vector<std::string>{"/bin/sh", "-c", writer}, dir.file("writer.log")));
+  }
+
+  // Headless Chromium showing `url` (the live overlay: WebSocket streams, camera frames).
+  static std::unique_ptr<cli::ChildProcess> browser_on_page(const ScratchDir& dir, const std::string& url, const std::string& name) {
+    return std::make_unique<cli::ChildProcess>(
+        std::vector<std::string>{"/usr/bin/chromium", "--headless=new", "--no-sandbox", "--disable-gpu", "--no-first-run",
+                                 "--user-data-dir=" + dir.file("chromium-" + name), url},
+        dir.file("chromium-" + name + ".log"));
+  }
+
+ private:
+  std::vector<std::unique_ptr<cli::ChildProcess>> load_;
+};
+
+}  // namespace rig::testing
