@@ -141,7 +141,9 @@ int diagnose(const CliContext& c, const LabOptions& o) {
   }
   std::cout << "baseline (" << m.name;
   for (const auto& e : d.base_effects) std::cout << " + " << e;
-  std::cout << "): CV RMSE " << fixed(d.baseline_cv_rmse_N, 4) << " N, noise floor " << fixed(d.noise_floor_N, 4) << " N\n\n";
+  std::cout << "): CV RMSE " << fixed(d.baseline_cv_rmse_N, 4) << " N, noise floor " << fixed(d.noise_floor_N, 4)
+            << " N (measurement " << fixed(d.floor.measurement_N, 4) << " N, eye variation " << fixed(d.floor.eye_variation_N, 4)
+            << " N)\n\n";
   Rows rows;
   for (const auto& cand : d.candidates) {
     if (!cand.applicable) {
@@ -152,6 +154,10 @@ int diagnose(const CliContext& c, const LabOptions& o) {
   }
   print_table({"effect", "CV RMSE N", "gain %", "significant", "evidence"}, rows);
   std::cout << "\nverdict: " << d.verdict << "\n";
+  if (d.verdict == "unexplained") {
+    std::cout << "where: " << d.unexplained_where.summary() << "\n";
+    if (!d.partial_candidate.empty()) std::cout << "best partial candidate: " << d.partial_candidate << "\n";
+  }
   for (const auto& w : d.warnings) std::cerr << "warning: " << w << "\n";
   return 0;
 }

@@ -37,9 +37,9 @@ void finish(CvResult& out) {
 std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
 
 // One run, no other runs to learn from: folds are time blocks of the run itself.
-CvResult within_run(const Predictor& predictor, const PreparedRun& run, const ModelParams& start) {
+CvResult within_run(const Predictor& predictor, const PreparedRun& run, const StartValues& start_for) {
   CvResult out;
-  out.full = Fitter(predictor, {&run}).fit(start);
+  out.full = Fitter(predictor, {&run}).fit(start_for({&run}));
   std::vector<double> residual(run.analysed.size());
   for (std::size_t b = 0; b < kBlocks; ++b) {
     PreparedRun train = run;
@@ -48,7 +48,8 @@ CvResult within_run(const Predictor& predictor, const PreparedRun& run, const Mo
     for (std::size_t k = 0; k < run.analysed.size(); ++k) {
       (block_of(k, run.analysed.size()) == b ? test : train.fit_rows).push_back(run.analysed[k]);
     }
-    const FitResult fit = Fitter(predictor, {&train}).fit(out.full.params, 80);
+    out.folds.push_back(Fitter(predictor, {&train}).fit(start_for({&train})));
+    const FitResult& fit = out.folds.back();
     Eigen::VectorXd beta;
     Fitter::residuals(predictor, train, fit.params, train.fit_rows, &beta);
     std::vector<double> prediction;
@@ -96,11 +97,11 @@ std::vector<double> held_out_residuals(const Predictor& predictor, const Prepare
   return out;
 }
 
-CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& start,
+CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const StartValues& start_for,
                         int max_folds) {
-  if (runs.size() == 1) return within_run(predictor, *runs.front(), start);
+  if (runs.size() == 1) return within_run(predictor, *runs.front(), start_for);
   CvResult out;
-  out.full = Fitter(predictor, runs).fit(start);
+  out.full = Fitter(predictor, runs).fit(start_for(runs));
   const std::size_t folds = std::min<std::size_t>(static_cast<std::size_t>(max_folds), runs.size());
   std::vector<std::vector<double>> residuals(runs.size());
   for (std::size_t f = 0; f < folds; ++f) {
@@ -108,7 +109,8 @@ CvResult cross_validate(const Predictor& predictor, const std::vector<const Prep
     for (std::size_t r = 0; r < runs.size(); ++r) {
       if (r % folds != f) train.push_back(runs[r]);
     }
-    const FitResult fit = Fitter(predictor, train).fit(out.full.params, 80);
+    out.folds.push_back(Fitter(predictor, train).fit(start_for(train)));
+    const FitResult& fit = out.folds.back();
     for (std::size_t r = f; r < runs.size(); r += folds) residuals[r] = held_out_residuals(predictor, *runs[r], fit.params);
   }
   for (auto& residual : residuals) add_run(out, std::move(residual));

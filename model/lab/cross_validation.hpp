@@ -4,6 +4,12 @@
 // coefficients of instrument effects are fitted on the held-out run's own data by blocked
 // CV inside the run (5 contiguous time blocks), so they never see the samples they predict.
 // With a single run, the folds are time blocks of that run.
+//
+// Honesty: nothing of a held-out run reaches the fit of its fold. Each fold's start values
+// (including the grids of multimodal terms) come from `start_for(training runs)`, the fold
+// is fitted from there (no warm start from the fit on all runs), and the eyes of held-out
+// runs are the population model's (their own scale and puncture shift are never fitted).
+#include <functional>
 #include <vector>
 
 #include "fitter.hpp"
@@ -18,9 +24,12 @@ struct CvResult {
   std::vector<double> run_rho;                 // lag-1 autocorrelation of the CV residuals
   std::vector<std::vector<double>> residuals;  // per run, over its analysed samples
   FitResult full;                              // the fit on all runs
+  std::vector<FitResult> folds;                // each fold's fit on its training runs
 };
 
-CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& start,
+using StartValues = std::function<ModelParams(const std::vector<const PreparedRun*>& training_runs)>;
+
+CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const StartValues& start_for,
                         int max_folds = 5);
 
 // Residuals of a held-out run: shared parameters given, per-run coefficients by blocked CV.

@@ -42,6 +42,7 @@ std::vector<std::string> candidate_keys(const std::vector<const PreparedRun*>& r
       if (r->data->number(k)) keys.insert(k);
     }
     for (const auto& c : r->data->channels) keys.insert(c.name);
+    for (const auto& [k, v] : r->derived) keys.insert(k);  // run_order
   }
   std::vector<std::string> out;
   for (const auto& k : keys) {

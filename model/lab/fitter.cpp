@@ -34,8 +34,8 @@ double from_bounded(double x, double lo, double hi) {
 
 }  // namespace
 
-Fitter::Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline)
-    : predictor_(&predictor), runs_(std::move(runs)), fit_baseline_(fit_baseline) {
+Fitter::Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline, bool eyes_differ)
+    : predictor_(&predictor), runs_(std::move(runs)), fit_baseline_(fit_baseline), eyes_differ_(eyes_differ) {
   if (fit_baseline_) {
     for (const auto& b : baseline_parameters()) specs_.push_back({b.lower, b.upper, true});
   }
@@ -79,10 +79,10 @@ ModelParams Fitter::unpack(const Eigen::VectorXd& u, const ModelParams& start) c
 }
 
 std::vector<double> Fitter::residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
-                                      const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients) {
+                                      const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients, const EyeParams* eye) {
   std::vector<double> prediction;
   Eigen::MatrixXd X;
-  predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr);
+  predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr, nullptr, eye);
   std::vector<double> r(rows.size());
   for (std::size_t n = 0; n < rows.size(); ++n) r[n] = run.data->force_N[rows[n]] - prediction[n];
   if (predictor.linear_columns() > 0) {
@@ -95,13 +95,13 @@ std::vector<double> Fitter::residuals(const Predictor& predictor, const Prepared
   return r;
 }
 
-void Fitter::evaluate_all(const ModelParams& p, Eigen::VectorXd* fvec, Eigen::VectorXd& gamma,
-                          std::vector<Eigen::VectorXd>& betas) const {
+void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& eyes, Eigen::VectorXd* fvec,
+                          Eigen::VectorXd& gamma, std::vector<Eigen::VectorXd>& betas) const {
   betas.assign(runs_.size(), Eigen::VectorXd());
   if (predictor_->shared_columns() == 0) {
     Eigen::Index k = 0;
     for (std::size_t r = 0; r < runs_.size(); ++r) {
-      for (const double e : residuals(*predictor_, *runs_[r], p, runs_[r]->fit_rows, &betas[r])) {
+      for (const double e : residuals(*predictor_, *runs_[r], p, runs_[r]->fit_rows, &betas[r], &eyes[r])) {
         if (fvec != nullptr) (*fvec)(k) = e;
         ++k;
       }
@@ -115,7 +115,7 @@ void Fitter::evaluate_all(const ModelParams& p, Eigen::VectorXd* fvec, Eigen::Ve
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     std::vector<double> prediction;
     const auto& fit_rows = runs_[i]->fit_rows;
-    predictor_->evaluate(*runs_[i], p, fit_rows, prediction, predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i]);
+    predictor_->evaluate(*runs_[i], p, fit_rows, prediction, predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i], &eyes[i]);
     r[i].resize(static_cast<Eigen::Index>(fit_rows.size()));
     for (std::size_t n = 0; n < fit_rows.size(); ++n) r[i](static_cast<Eigen::Index>(n)) = runs_[i]->data->force_N[fit_rows[n]] - prediction[n];
     rows += r[i].size();
@@ -148,9 +148,14 @@ double Fitter::sse(const ModelParams& p) const {
   Eigen::VectorXd fvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_));
   Eigen::VectorXd gamma;
   std::vector<Eigen::VectorXd> betas;
-  evaluate_all(p, &fvec, gamma, betas);
+  evaluate_all(p, std::vector<EyeParams>(runs_.size()), &fvec, gamma, betas);
   return fvec.squaredNorm();
 }
+
+// Weight of the pull toward the start values [N per unit of the transformed parameter]:
+// like one extra row with a 1 mN error per unit of change, nothing against hundreds of rows
+// wherever the data constrain a parameter.
+constexpr double kStartPull_N = 1e-3;
 
 struct FitFunctor {
   using Scalar = double;
@@ -161,39 +166,67 @@ struct FitFunctor {
 
   const Fitter* fitter;
   const ModelParams* start;
+  const std::vector<EyeParams>* eyes;
   int inputs() const { return static_cast<int>(fitter->specs_.size()); }
-  int values() const { return static_cast<int>(std::max(fitter->rows_, fitter->specs_.size())); }
+  const Eigen::VectorXd* start_u;
+  int values() const { return static_cast<int>(fitter->rows_ + fitter->specs_.size()); }
   int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& fvec) const {
     fvec.setZero(values());
     Eigen::VectorXd gamma;
     std::vector<Eigen::VectorXd> betas;
-    fitter->evaluate_all(fitter->unpack(u, *start), &fvec, gamma, betas);
+    fitter->evaluate_all(fitter->unpack(u, *start), *eyes, &fvec, gamma, betas);
+    // A weak pull toward the start values: it only decides directions the data leave flat
+    // (g against g0 when the training runs share one IOP), which would otherwise wander.
+    fvec.tail(static_cast<Eigen::Index>(fitter->specs_.size())) = kStartPull_N * (u - *start_u);
     return 0;
   }
 };
 
-FitResult Fitter::fit(const ModelParams& start, int max_evaluations) const {
+FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams>& eyes, int max_evaluations) const {
   FitResult result;
   result.params = start;
+  result.converged = true;  // nothing to fit is not a failure
   if (!specs_.empty() && rows_ > specs_.size()) {
-    FitFunctor functor{this, &start};
+    const Eigen::VectorXd u0 = pack(start);
+    FitFunctor functor{this, &start, &eyes, &u0};
     Eigen::NumericalDiff<FitFunctor> numeric(functor);
     Eigen::LevenbergMarquardt<Eigen::NumericalDiff<FitFunctor>> lm(numeric);
     lm.parameters.maxfev = max_evaluations;
     lm.parameters.xtol = 1e-8;
     lm.parameters.ftol = 1e-10;
-    Eigen::VectorXd u = pack(start);
+    Eigen::VectorXd u = u0;
     const auto status = lm.minimize(u);
     result.params = unpack(u, start);
     result.evaluations = static_cast<int>(lm.nfev);
+    result.left_start = (u - u0).cwiseAbs().maxCoeff() > 0.0;
     result.converged = status == Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall ||
                        status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
                        status == Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall ||
                        status == Eigen::LevenbergMarquardtSpace::XtolTooSmall;
   }
+  result.eyes = eyes;
   Eigen::VectorXd fvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_));
-  evaluate_all(result.params, &fvec, result.params.shared_linear, result.run_coefficients);
+  evaluate_all(result.params, eyes, &fvec, result.params.shared_linear, result.run_coefficients);
   result.rmse_N = rows_ > 0 ? std::sqrt(fvec.squaredNorm() / static_cast<double>(rows_)) : 0.0;
+  return result;
+}
+
+FitResult Fitter::fit(const ModelParams& start, int max_evaluations) const {
+  FitResult result = minimise(start, std::vector<EyeParams>(runs_.size()), max_evaluations);
+  if (!eyes_differ_) return result;
+  // Alternate: eyes given the shared parameters, shared parameters given the eyes. Eye-free
+  // data give no spread and stop after the first estimate.
+  for (int round = 0; round < 2; ++round) {
+    const EyeEstimate eyes = estimate_eyes(*predictor_, runs_, result.params, result.run_coefficients);
+    if (!eyes.spread.any()) break;
+    const int evaluations = result.evaluations;
+    const bool left_start = result.left_start;
+    result = minimise(result.params, eyes.eyes, max_evaluations / 2);
+    result.eye_spread = eyes.spread;
+    result.evaluations += evaluations;
+    result.left_start = result.left_start || left_start;
+  }
+  result.start_shared = start.shared;
   return result;
 }
 

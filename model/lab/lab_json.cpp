@@ -11,6 +11,10 @@ nlohmann::json to_json(const SegmentMetrics& m) {
 
 namespace {
 
+nlohmann::json to_json(const EyeSpread& s) {
+  return {{"precut_scale", s.precut_scale}, {"cut_scale", s.cut_scale}, {"x_pi_mm", s.x_pi_mm}};
+}
+
 nlohmann::json metrics_list(const std::vector<SegmentMetrics>& list) {
   nlohmann::json out = nlohmann::json::array();
   for (const auto& m : list) out.push_back(to_json(m));
@@ -26,16 +30,34 @@ nlohmann::json to_json(const Diagnosis& d) {
     if (c.applicable) {
       j.update({{"cv_rmse_N", c.cv_rmse_N}, {"gain_pct", c.gain_pct}, {"significant", c.significant},
                 {"evidence", c.evidence}, {"runs_improved", c.runs_improved}, {"delta_bic", c.delta_bic},
-                {"n_effective", c.n_effective}, {"where", c.where}});
+                {"n_effective", c.n_effective}, {"where", c.where}, {"floor_N", c.floor_N},
+                {"explained_pct", c.explained_pct}, {"converged", c.converged}, {"left_start", c.left_start}});
     } else {
       j.update({{"significant", false}, {"evidence", "not applicable: " + c.not_applicable}});
     }
     candidates.push_back(std::move(j));
   }
-  return {{"baseline", {{"cv_rmse_N", d.baseline_cv_rmse_N}, {"noise_floor_N", d.noise_floor_N}, {"effects", d.base_effects}}},
-          {"candidates", candidates},
-          {"verdict", d.verdict},
-          {"warnings", d.warnings}};
+  nlohmann::json where = nlohmann::json::array();
+  for (const ExcessBin& b : d.unexplained_where.bins) {
+    where.push_back({{"view", b.view}, {"bin", b.bin}, {"share", b.share}, {"mean_residual_N", b.mean_residual_N}});
+  }
+  nlohmann::json result = {
+      {"baseline", {{"cv_rmse_N", d.baseline_cv_rmse_N}, {"noise_floor_N", d.noise_floor_N}, {"effects", d.base_effects}}},
+      {"noise_floor", {{"total_N", d.floor.total_N}, {"measurement_N", d.floor.measurement_N},
+                       {"eye_variation_N", d.floor.eye_variation_N}, {"eye_spread", to_json(d.floor.eye_spread)},
+                       {"definition", "sqrt(measurement^2 + eye_variation^2): white noise of the force channel plus the RMS "
+                                      "that eye-to-eye variation (tissue-force scale, puncture depth) adds to a prediction "
+                                      "for an eye not yet seen"}}},
+      {"candidates", candidates},
+      {"verdict", d.verdict},
+      {"warnings", d.warnings}};
+  if (d.verdict == "unexplained") {
+    result["partial_candidate"] = d.partial_candidate;
+    result["unexplained_where"] = {{"bins", where}, {"covariate", d.unexplained_where.covariate},
+                                   {"covariate_correlation", d.unexplained_where.covariate_correlation},
+                                   {"summary", d.unexplained_where.summary()}};
+  }
+  return result;
 }
 
 nlohmann::json to_json(const FitReport& f) {
@@ -45,6 +67,8 @@ nlohmann::json to_json(const FitReport& f) {
           {"before", {{"cv_rmse_N", f.before_cv_rmse_N}, {"by_phase", metrics_list(f.before_by_phase)}}},
           {"after", {{"cv_rmse_N", f.after_cv_rmse_N}, {"by_phase", metrics_list(f.after_by_phase)}}},
           {"noise_floor_N", f.noise_floor_N},
+          {"noise_floor", {{"measurement_N", f.measurement_noise_N}, {"eye_variation_N", f.eye_variation_N},
+                           {"eye_spread", to_json(f.eye_spread)}}},
           {"params", f.params},
           {"per_run", per_run},
           {"warnings", f.warnings}};

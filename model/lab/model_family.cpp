@@ -44,7 +44,11 @@ ModelParams ModelFamily::start(const std::vector<const PreparedRun*>& runs) cons
 }
 
 CvResult ModelFamily::cross_validate(const std::vector<const PreparedRun*>& runs) const {
-  return model::cross_validate(*predictor_, runs, start(runs));
+  return model::cross_validate(*predictor_, runs, [this](const std::vector<const PreparedRun*>& training) { return start(training); });
+}
+
+double ModelFamily::eye_variance_N2(const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+  return model::eye_variance_N2(*predictor_, runs, fit.params, fit.eye_spread);
 }
 
 std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) const {

@@ -20,6 +20,8 @@ class ModelFamily {
   // Start values: the model file's, with the best of each new term's starting points.
   ModelParams start(const std::vector<const PreparedRun*>& runs) const;
   CvResult cross_validate(const std::vector<const PreparedRun*>& runs) const;
+  // What eye-to-eye variation adds per sample to a prediction for an unseen eye [N^2].
+  double eye_variance_N2(const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
   // The effect settings (shared parameters by name) of a fit, for a model file.
   std::vector<EffectSetting> settings(const ModelParams& params) const;
   // The user terms of the family with their fitted parameters, for the model file's [terms].

@@ -61,6 +61,7 @@ FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, c
   FitReport report;
   std::vector<PreparedRun> prepared;
   for (const RunData& r : data) prepared.push_back(prepare_run(r));
+  add_run_order(prepared);
   std::vector<const PreparedRun*> runs;
   for (const PreparedRun& p : prepared) {
     runs.push_back(&p);
@@ -76,7 +77,12 @@ FitReport fit_model(const ForceModel& model, const std::vector<RunData>& data, c
   report.effects = after_family.effect_names();
   report.before_cv_rmse_N = before.rmse_N;
   report.after_cv_rmse_N = after.rmse_N;
-  report.noise_floor_N = noise_floor(runs);
+  const NoiseFloor floor = floor_of(after_family, after.full, runs);
+  report.noise_floor_N = floor.total_N;
+  report.measurement_noise_N = floor.measurement_N;
+  report.eye_variation_N = floor.eye_variation_N;
+  report.eye_spread = floor.eye_spread;
+  if (!after.full.converged) report.warnings.push_back("the fit did not converge; its parameters are those where it stopped");
   report.before_by_phase = by_phase(before, runs);
   report.after_by_phase = by_phase(after, runs);
   report.params["baseline"] = baseline_params(after.full.params.base);

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "eye_params.hpp"
 #include "force_model.hpp"
 #include "run_data.hpp"
 #include "segment_metrics.hpp"
@@ -22,7 +23,10 @@ struct FitReport {
   std::vector<std::string> effects;  // every effect of the fitted family
   double before_cv_rmse_N = 0.0;
   double after_cv_rmse_N = 0.0;
-  double noise_floor_N = 0.0;
+  double noise_floor_N = 0.0;                   // of the fitted family: measurement + eye variation
+  double measurement_noise_N = 0.0;
+  double eye_variation_N = 0.0;
+  EyeSpread eye_spread;                         // population SDs of the eye parameters
   std::vector<SegmentMetrics> before_by_phase;  // from the cross-validated residuals
   std::vector<SegmentMetrics> after_by_phase;
   std::map<std::string, std::map<std::string, double>> params;  // "baseline" and each effect

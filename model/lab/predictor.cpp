@@ -28,11 +28,14 @@ ModelParams Predictor::initial_params() const {
 }
 
 void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
-                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S) const {
+                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S, const EyeParams* eye,
+                         EyeColumns* tissue) const {
   ForceModel m = model_;
   m.params = p.base;
   for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->adjust_model(run, p.shared[k].data(), m.params);
+  if (eye != nullptr) m.params.x_pi_shift += eye->x_pi_mm;
   out.resize(rows.size());
+  if (tissue != nullptr) tissue->precut.assign(rows.size(), 0.0), tissue->cut.assign(rows.size(), 0.0);
   if (X != nullptr) X->resize(static_cast<Eigen::Index>(rows.size()), linear_columns_);
   if (S != nullptr) S->resize(static_cast<Eigen::Index>(rows.size()), shared_columns_);
   const RunData& r = *run.data;
@@ -53,6 +56,8 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
       scale *= terms_[k]->scale(s, p.shared[k].data());
     }
     double force = m.baseline(s.x_mm - shift, run.front_mm[i] - shift, run.iop_mmHg) * scale;
+    if (tissue != nullptr) (s.after_puncture ? tissue->cut : tissue->precut)[n] = force;
+    if (eye != nullptr) force *= 1.0 + (s.after_puncture ? eye->cut_scale : eye->precut_scale);
     double added = 0.0;
     for (std::size_t k = 0; k < terms_.size(); ++k) added += terms_[k]->add(s, p.shared[k].data(), force);
     out[n] = force + added;
@@ -79,7 +84,7 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
     // No caller wants the shared columns: apply the known shared coefficients directly.
     Eigen::MatrixXd shared_design;
     std::vector<double> ignored;
-    evaluate(run, p, rows, ignored, nullptr, &shared_design);
+    evaluate(run, p, rows, ignored, nullptr, &shared_design, eye);
     const Eigen::VectorXd add = shared_design * p.shared_linear;
     for (std::size_t n = 0; n < rows.size(); ++n) out[n] += add(static_cast<Eigen::Index>(n));
   }

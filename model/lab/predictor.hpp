@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "effect_term.hpp"
+#include "eye_params.hpp"
 #include "force_model.hpp"
 #include "prepared_run.hpp"
 
@@ -26,9 +27,12 @@ class Predictor {
   Predictor(const ForceModel& model, std::vector<const EffectTerm*> terms);
 
   // Prediction without the linear parts at `rows`; fills X with the per-run linear columns
-  // and S with the shared linear columns when given.
+  // and S with the shared linear columns when given. `eye` (null: the population model)
+  // scales the tissue force and shifts the puncture; `tissue` receives the tissue force
+  // before the eye's scales, split by where each acts.
   void evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
-                std::vector<double>& out, Eigen::MatrixXd* X = nullptr, Eigen::MatrixXd* S = nullptr) const;
+                std::vector<double>& out, Eigen::MatrixXd* X = nullptr, Eigen::MatrixXd* S = nullptr,
+                const EyeParams* eye = nullptr, EyeColumns* tissue = nullptr) const;
   int linear_columns() const { return linear_columns_; }
   int shared_columns() const { return shared_columns_; }
   const std::vector<const EffectTerm*>& terms() const { return terms_; }

@@ -6,6 +6,7 @@
 namespace rig::model {
 
 std::optional<double> PreparedRun::covariate(const std::string& key, std::size_t i) const {
+  if (const auto at = derived.find(key); at != derived.end()) return at->second;
   if (const Channel* channel = data->channel(key)) return channel->values[i];
   return data->number(key);
 }
@@ -78,6 +79,20 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
   for (const auto& note : p.seg.notes) p.warnings.push_back(run.source + ": " + note);
   return p;
+}
+
+void add_run_order(std::vector<PreparedRun>& runs) {
+  std::map<std::string, std::vector<std::pair<std::string, PreparedRun*>>> sessions;
+  for (PreparedRun& run : runs) {
+    const auto started = run.data->text("started_at");
+    if (!started || started->empty()) return;
+    const auto session = run.data->text("session");
+    sessions[session ? *session : started->substr(0, 10)].emplace_back(*started, &run);
+  }
+  for (auto& [session, members] : sessions) {
+    std::stable_sort(members.begin(), members.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t k = 0; k < members.size(); ++k) members[k].second->derived["run_order"] = static_cast<double>(k + 1);
+  }
 }
 
 }  // namespace rig::model

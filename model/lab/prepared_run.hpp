@@ -1,6 +1,7 @@
 #pragma once
 // A run made ready for fitting: its phases, smoothed velocity, time in hold, inserted blade
 // length, the samples analysed (from first contact on) and a decimated subset for fits.
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@ struct PreparedRun {
   double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
   bool iop_known = false;
   bool velocity_known = false;
+  std::map<std::string, double> derived;  // covariates derived from the whole run set (run_order)
   std::vector<std::string> warnings;
 
   std::size_t size() const { return data->size(); }
@@ -32,5 +34,10 @@ struct PreparedRun {
 };
 
 PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
+
+// Run order within a session as the covariate `run_order` (1, 2, ... by `started_at`; a
+// session is the runs sharing a `session` metadata value, else the same date), so that
+// wear across a session shows. Left out unless every run has `started_at`.
+void add_run_order(std::vector<PreparedRun>& runs);
 
 }  // namespace rig::model

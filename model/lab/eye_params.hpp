@@ -1,0 +1,31 @@
+#pragma once
+// What makes one eye differ from the population model: the scale of its tissue force before
+// the puncture (stiffness of the intact cornea) and after it (cutting), and a shift of the
+// puncture depth (random effects, one set per run), and how widely they spread over the
+// eyes of a data set.
+#include <vector>
+
+namespace rig::model {
+
+struct EyeParams {
+  double precut_scale = 0.0;  // relative: before the puncture the tissue force is (1 + s) x the model's
+  double cut_scale = 0.0;     // relative: from the puncture on
+  double x_pi_mm = 0.0;       // this eye punctures x_pi_mm deeper than the model says [mm]
+};
+
+// Population standard deviations (tau) of the eye parameters, estimated from the runs.
+struct EyeSpread {
+  double precut_scale = 0.0;
+  double cut_scale = 0.0;
+  double x_pi_mm = 0.0;
+  bool any() const { return precut_scale > 0.0 || cut_scale > 0.0 || x_pi_mm > 0.0; }
+};
+
+// The tissue force before an eye's scales, split by where each scale acts (the derivatives
+// of the prediction by precut_scale and cut_scale) [N].
+struct EyeColumns {
+  std::vector<double> precut;
+  std::vector<double> cut;
+};
+
+}  // namespace rig::model

@@ -1,0 +1,39 @@
+#pragma once
+// Eyes differ: each run gets its own tissue-force scales (before and after the puncture) and
+// puncture-depth shift (random effects), estimated with shrinkage toward the population
+// (empirical Bayes):
+//   1. per run, the unpenalised estimate d_r and its sampling variance v_r (scales: least
+//      squares over the run's fit rows; puncture shift: grid + golden search on the rows
+//      around the model's puncture, variance from the curvature of that error profile);
+//   2. the population variance by the method of moments, tau^2 = max(0, mean d_r^2 - mean v_r);
+//   3. each run's value shrunk toward the population, d_r tau^2 / (tau^2 + v_r).
+// Eye-free data give tau = 0 and every eye exactly the population model.
+#include <Eigen/Core>
+
+#include <vector>
+
+#include "eye_params.hpp"
+#include "predictor.hpp"
+
+namespace rig::model {
+
+struct EyeEstimate {
+  std::vector<EyeParams> eyes;  // per run, shrunk
+  EyeSpread spread;             // population standard deviations
+};
+
+// Eye parameters of `runs` given the shared parameters and each run's instrument
+// coefficients (`betas`, aligned with runs; empty vectors if none). Needs >= 3 runs to
+// estimate a spread; with fewer every eye is the population model.
+EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+                          const std::vector<Eigen::VectorXd>& betas);
+
+// The mean squared error per analysed sample [N^2] that eye variation adds to a prediction
+// made with the population model (eye parameters unknown): the expectation over eyes drawn
+// from `spread` (3-point Gauss-Hermite in the puncture shift, exact in the scales) of
+// (prediction of that eye - population prediction)^2, averaged over the runs' fit rows and
+// weighted by each run's analysed sample count.
+double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+                       const EyeSpread& spread);
+
+}  // namespace rig::model
