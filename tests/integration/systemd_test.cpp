@@ -135,9 +135,15 @@ TEST(SystemdUnit, EverySystemCallRigdMakesWhileHomingAndCuttingPassesTheUnitsFil
       reached += rig.wait_state("Done", 30) ? ", cut to Done" : ", cut ended in " + rig.status().value("state", std::string());
     }
     std::printf("traced rigd: started, %s, SIGTERM\n", reached.c_str());
-    // rigd is strace's child: SIGTERM it, so its shutdown's system calls are traced too.
-    testing::run_command("pkill -TERM -P " + std::to_string(rig.rigd().pid()));
-    for (int i = 0; i < 100 && rig.rigd().running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    // rigd is strace's child: SIGTERM it, so its shutdown's system calls are traced too; it
+    // must never outlive the test (strace, stopped, would leave it running).
+    const auto child = testing::run_command("pgrep -P " + std::to_string(rig.rigd().pid()), false);
+    const pid_t rigd_pid = child.output.empty() ? -1 : static_cast<pid_t>(std::stol(child.output));
+    ASSERT_GT(rigd_pid, 0) << "no rigd under strace";
+    ::kill(rigd_pid, SIGTERM);
+    for (int i = 0; i < 100 && ::kill(rigd_pid, 0) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (::kill(rigd_pid, 0) == 0) ::kill(rigd_pid, SIGKILL);
+    for (int i = 0; i < 50 && rig.rigd().running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::ifstream log(trace);
   ASSERT_TRUE(log.good()) << "strace wrote no trace";
