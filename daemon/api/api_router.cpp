@@ -203,8 +203,12 @@ void ApiRouter::post_run(const Request& request, bool start, Responder respond) 
     rt::Command command;
     command.kind = rt::CommandKind::kArm;
     command.id = next_command_id_++;
-    command.params = {accepted.iop_mmHg, accepted.velocity_mm_s, accepted.depth_mm, accepted.hold_s.value_or(0.0),
-                      start && accepted.start.value_or(true), run_id};
+    command.params.iop_mmHg = accepted.iop_mmHg;
+    command.params.velocity_mm_s = accepted.velocity_mm_s;
+    command.params.depth_mm = accepted.depth_mm;
+    command.params.hold_s = accepted.hold_s.value_or(0.0);
+    command.params.start_when_settled = start && accepted.start.value_or(true);
+    command.params.run_id = run_id;
     send_command(request, command, respond, [this, run_id](rt::CommandResult result) {
       if (result != rt::CommandResult::kAccepted) archive_->discard_refused_run(run_id, std::string(rt::to_string(result)));
     });
