@@ -158,7 +158,15 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
   for (const SavedEffect& saved : base) in.base_terms.push_back(saved.term.get()), in.base_params.push_back(saved.params);
   for (const std::string& w : with_) {
     if (w == name) continue;
-    with_terms.push_back(make(w));
+    // The accepted effects in the form already chosen for them, else their default form:
+    // selecting them here (make) would recurse when two or more are accepted.
+    int form = -1;
+    {
+      const std::lock_guard<std::mutex> lock(cache_->mutex);
+      const auto it = cache_->chosen.find(w);
+      if (it != cache_->chosen.end()) form = it->second.first;
+    }
+    with_terms.push_back(make_in_form(w, form));
     in.base_terms.push_back(with_terms.back().get());
     in.base_params.push_back(Predictor(*model_, {with_terms.back().get()}).initial_params().shared.front());
   }

@@ -17,7 +17,7 @@ namespace rig::model::explainer {
 namespace {
 
 const std::vector<RunData>& clean_runs() {
-  static const std::vector<RunData> runs = testing::scenario_runs({}, 7);
+  static const std::vector<RunData> runs = testing::mechanism_runs({}, 7);
   return runs;
 }
 

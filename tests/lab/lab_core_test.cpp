@@ -72,7 +72,7 @@ TEST(HonestCrossValidation, AFoldsFitIsBitIdenticalWhateverItsHeldOutRunContains
 }
 
 TEST(EyeVariation, IsNotReportedAsAnEffectAndRaisesTheFloor) {
-  const auto data = runs(9, {}, 0.08);
+  const auto data = runs(9, {}, 1.0);  // the simulator's default spread of eyes
   DiagnoseOptions o;
   o.only = {"rig_compliance", "shaft_friction", "rate_dependence"};
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), data, o);

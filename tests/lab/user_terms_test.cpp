@@ -25,7 +25,7 @@ constexpr double kSquare_N_per_mm2 = 2e-4;
 // Three runs with a force k x^2 while retracting: small enough for a quick fit.
 const std::vector<RunData>& dragged_runs() {
   static const std::vector<RunData> runs = [] {
-    std::vector<RunData> all = testing::scenario_runs({}, 11);
+    std::vector<RunData> all = testing::mechanism_runs({}, 11);
     std::vector<RunData> three = {all[0], all[4], all[8]};
     testing::add_retraction_square(three, kSquare_N_per_mm2);
     return three;

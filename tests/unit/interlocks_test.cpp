@@ -132,7 +132,7 @@ TEST_F(InterlockTest, AnIopLeakDuringTheCutFaultsTheRunOnceThePressureHasLeftIts
   const double delay = truth.motor_off_time_s - left_band_at;
   std::cout << "motor off " << delay * 1e3 << " ms after the IOP left its band\n";
   EXPECT_GE(delay, 0.1 - 2 * kPeriod_s) << "iop.fault_after_ms (100 ms) must pass first: a pump step is not a leak";
-  EXPECT_LE(delay, 0.1 + 5 * kPeriod_s) << "noise at the band edge may restart the count for a few cycles";
+  EXPECT_LE(delay, 0.1 + 0.02) << "noise at the band edge may restart the count for a few cycles";
   expect_run_kept_with(FaultCode::kIopOutOfRange);
 }
 
