@@ -148,7 +148,8 @@ TEST(RunOrder, BecomesACovariateWithinEachSession) {
   EXPECT_EQ(prepared[0].covariate("run_order", 0), 2.0);
   EXPECT_EQ(prepared[3].covariate("run_order", 0), 3.0);
   EXPECT_EQ(prepared[2].covariate("run_order", 0), 1.0);  // the next day is a new session
-  const EffectCatalogue catalogue(ForceModel::paper_interpreted(), pointers(prepared));
+  const ForceModel model = ForceModel::paper_interpreted();  // the catalogue keeps a pointer to it
+  const EffectCatalogue catalogue(model, pointers(prepared));
   const auto names = catalogue.candidates();
   EXPECT_NE(std::find(names.begin(), names.end(), "covariate:run_order"), names.end());
 }
