@@ -8,6 +8,7 @@
 #include <signal.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cstdio>
 #include <random>
 #include <thread>
@@ -29,24 +30,54 @@ struct Kill {
   std::string state;
 };
 
+// Runs that faulted by accident (the DAQ link starved on this shared VM) before the kill;
+// the subject here is the archive, so the run is retried and the count printed, not hidden.
+std::atomic<int> accidental_faults{0};
+
+// Starts a run and, unless it is to be killed while arming, waits until it cuts. Returns the
+// run id, 0 if the run faulted first (its reason in `why`), -1 if it was refused.
+std::int64_t start_run(RigProcesses& rig, bool wait_for_cutting, std::string& why) {
+  const auto reply = rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
+  EXPECT_EQ(reply.status, 200) << reply.body;
+  if (reply.status != 200) return -1;
+  const std::int64_t id = json::parse(reply.body)["run_id"];
+  if (!wait_for_cutting) return id;
+  json last;
+  const bool settled = rig.wait(
+      [&](const json& s) {
+        last = s;
+        return s["state"] == "Cutting" || s["state"] == "Fault";
+      },
+      30);
+  if (settled && last["state"] == "Cutting") return id;
+  why = last.dump();
+  if (!settled) ADD_FAILURE() << "run " << id << " never reached Cutting: " << why;
+  return settled ? 0 : id;
+}
+
 // One run: home, tare, start, SIGKILL at a random moment; what the loop had done by then.
 Kill run_and_kill(RigProcesses& rig, std::mt19937& rng, int i) {
   static std::uniform_int_distribution<int> delay_ms(0, 1500);
   std::string why;
-  // The subject is the archive, not the link: one retry after a reset if this shared VM
-  // starved the DAQ link during homing.
-  if (!rig.prepare(why)) {
-    rig.api().post("/api/reset");
-    if (!rig.prepare(why)) ADD_FAILURE() << "run " << i << ": " << why;
-  }
-  const auto reply = rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
-  EXPECT_EQ(reply.status, 200) << reply.body;
   Kill k;
-  if (reply.status != 200) return k;
-  k.run_id = json::parse(reply.body)["run_id"];
-  // Every fifth kill lands while arming (IOP settling, approach), the others while cutting.
-  if (i % 5 != 0) {
-    EXPECT_TRUE(rig.wait_state("Cutting", 30)) << rig.status().dump();
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    // The subject is the archive, not the link: a reset and a retry if this shared VM
+    // starved the DAQ link while homing or arming (counted in accidental_faults).
+    if (!rig.prepare(why)) {
+      ++accidental_faults;
+      rig.api().post("/api/reset");
+      if (!rig.prepare(why)) ADD_FAILURE() << "run " << i << ": " << why;
+    }
+    // Every fifth kill lands while arming (IOP settling, approach), the others while cutting.
+    k.run_id = start_run(rig, i % 5 != 0, why);
+    if (k.run_id != 0) break;
+    ++accidental_faults;
+    std::printf("DURABILITY | run %d faulted before the kill, retried: %s\n", i, why.c_str());
+    rig.api().post("/api/reset");
+  }
+  if (k.run_id <= 0) {
+    ADD_FAILURE() << "run " << i << " never started cutting: " << why;
+    k.run_id = 0;  // still killed below: the next round restarts rigd
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms(rng)));
   const json before = rig.status();
@@ -122,6 +153,7 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
     ASSERT_TRUE(integrity.step());
     EXPECT_EQ(integrity.text(0), "ok") << path;
     for (const Kill& k : kills) {
+      if (k.run_id == 0) continue;  // already a failure above
       const double lost = check_run(db, k);
       if (lost < 0) continue;
       ++runs_with_samples;
@@ -130,8 +162,9 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
   }
   EXPECT_EQ(kills_a.size() + kills_b.size(), 50U);
   EXPECT_GE(runs_with_samples, 35) << "too few kills landed during cutting to mean anything";
-  std::printf("DURABILITY | 50 kills on 2 rigs, %d runs with samples | worst loss %.1f ms of samples (limit 100 ms)\n",
-              runs_with_samples, worst_ms);
+  std::printf("DURABILITY | 50 kills on 2 rigs, %d runs with samples | worst loss %.1f ms of samples (limit 100 ms)"
+              " | %d accidental faults before a kill (retried)\n",
+              runs_with_samples, worst_ms, accidental_faults.load());
 }
 
 }  // namespace
