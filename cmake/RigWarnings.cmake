@@ -9,7 +9,9 @@ if(RIG_SANITIZE)
   set(_flags "-fsanitize=${RIG_SANITIZE}" -fno-omit-frame-pointer -fno-sanitize-recover=all)
   # GCC 12 reports false -Wmaybe-uninitialized inside libstdc++ (std::regex, std::function)
   # when sanitizers instrument -O1 code; the release tree keeps that warning as an error.
-  add_compile_options(${_flags} -O1)
+  # -g1 (line tables): sanitizer reports keep file:line, and Beast/JSON-heavy files compile a
+  # quarter faster than with full -g (sessions.cpp under ASan+UBSan: 75 s against 99 s).
+  add_compile_options(${_flags} -O1 -g1)
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     add_compile_options(-Wno-maybe-uninitialized)
   endif()
