@@ -202,7 +202,10 @@ async function refreshStatus() {
     $("r-ready").textContent = (s.homed ? "homed" : "not homed") + " / " + (s.tared ? "tared" : "not tared");
     $("r-loop").textContent = `${fmt(s.loop.rate_hz, 0)} Hz, jitter p99 ${fmt(s.loop.jitter_p99_us, 0)} µs, overruns ${s.loop.overruns}`;
     const i = s.interlocks, stopped = s.state === "Fault" || s.state === "EStop";
-    const chips = [["home limit", i.home_limit], ["end limit", i.end_limit], ["e-stop", i.estop_input], ["DAQ link down", !i.link_ok]];
+    // Red while the input is active, and while the latched fault names it (until Reset).
+    const named = text => stopped && s.fault.includes(text);
+    const chips = [["home limit", i.home_limit || named("home limit")], ["end limit", i.end_limit || named("end limit")],
+                   ["e-stop", i.estop_input || s.state === "EStop"], ["DAQ link down", !i.link_ok || named("DAQ link lost")]];
     $("interlocks").innerHTML = chips.map(([name, on]) => `<span class="${on ? "tripped" : ""}">${name}${on ? " ●" : ""}</span>`).join("") +
       `<span class="${s.motor_enabled ? "motor" : stopped ? "tripped" : ""}">motor ${s.motor_enabled ? "on" : "off"}</span>`;
     rig.tripped = [...chips.filter(([, on]) => on).map(([name]) => name), ...(stopped && !s.motor_enabled ? ["motor off"] : [])];

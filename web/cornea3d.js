@@ -8,6 +8,9 @@
 import * as THREE from "./vendor/three.module.js";
 
 const PATCH_MM = 6.0, BLADE_WIDTH_MM = 2.8, BLADE_THICKNESS_MM = 0.2;
+// Springs are drawn as lines up to this many vertices; a finer mesh shows its surface only
+// (100,000 lines in a software renderer cost more than a frame).
+const MAX_VERTICES_WITH_SPRINGS = 2500;
 const $ = id => document.getElementById(id);
 const fmt = (v, d) => (v === null || v === undefined || Number.isNaN(v)) ? "—" : Number(v).toFixed(d);
 
@@ -96,13 +99,15 @@ class CorneaView {
     const surface = new THREE.BufferGeometry();
     surface.setAttribute("position", this.positions);
     surface.setIndex(count > 65535 ? new THREE.Uint32BufferAttribute(triangles, 1) : new THREE.Uint16BufferAttribute(triangles, 1));
-    this.surface = new THREE.Mesh(surface, new THREE.MeshLambertMaterial({color: 0xd7a98c, side: THREE.DoubleSide}));
+    // Flat shading: normals from screen-space derivatives, none recomputed on the CPU per frame.
+    this.surface = new THREE.Mesh(surface, new THREE.MeshLambertMaterial({color: 0xd7a98c, side: THREE.DoubleSide, flatShading: true}));
     const springs = springsOf(n);
     this.springCount = springs.length / 2;
     const lines = new THREE.BufferGeometry();
     lines.setAttribute("position", this.positions);
     lines.setIndex(count > 65535 ? new THREE.Uint32BufferAttribute(springs, 1) : new THREE.Uint16BufferAttribute(springs, 1));
     this.lines = new THREE.LineSegments(lines, new THREE.LineBasicMaterial({color: 0x5d4037}));
+    this.lines.visible = count <= MAX_VERTICES_WITH_SPRINGS;
     this.scene.add(this.surface, this.lines);
     this.deform({x_mm: [], z_mm: [], tip_depth_mm: 0, punctured: false});
   }
@@ -123,11 +128,10 @@ class CorneaView {
       const rim = r === 0 || c === 0 || r === n - 1 || c === n - 1;
       const opened = rows && m.punctured && Math.abs(y0) <= BLADE_WIDTH_MM / 2 ? xs[c] - (c * spacing - half) : 0;
       p[3 * i] = x0 + opened;
-      p[3 * i + 1] = rim ? 0 : -depthAt(Math.hypot(x0, y0));
+      p[3 * i + 1] = rim ? 0 : -depthAt(Math.sqrt(x0 * x0 + y0 * y0));
       p[3 * i + 2] = y0;
     }
     this.positions.needsUpdate = true;
-    this.surface.geometry.computeVertexNormals();
     this.keratome.position.y = -Math.max(0, m.tip_depth_mm || 0);
   }
 
@@ -194,7 +198,8 @@ function onMesh(m) {
   view.show(m);
   felt.add(m);
   feltDirty = true;
-  $("cornea3d-caption").textContent = `${view.n * view.n} vertices, ${view.springCount} springs · tip ${fmt(m.tip_depth_mm, 3)} mm · ` +
+  $("cornea3d-caption").textContent = `${view.n * view.n} vertices, ${view.springCount} springs` +
+    (view.lines.visible ? "" : " (surface only)") + ` · tip ${fmt(m.tip_depth_mm, 3)} mm · ` +
     `felt ${fmt(m.force_N, 4)} N` + (m.punctured ? " · punctured: the cut is open" : "");
 }
 

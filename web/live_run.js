@@ -82,9 +82,9 @@ const rigRun = (() => {
           if (stillGap) await new Promise(r => setTimeout(r, GAP_RETRY_MS));
           continue;
         }
-        appendFrom(b, true);
-        view.pending.shift();
-        waitingSince = null;
+        // A hole inside the batch (the stream's ring dropped samples): appended up to it,
+        // the rest waits for the archive like any gap.
+        if (appendFrom(b, stale)) { view.pending.shift(); waitingSince = null; }
         notify();
       }
     } catch (e) {
