@@ -72,8 +72,8 @@ class CorneaView {
 
   // The keratome: a thin blade along the cut (y), its tip at the tip's depth.
   addKeratome() {
-    const blade = new THREE.BoxGeometry(BLADE_THICKNESS_MM, 6, BLADE_WIDTH_MM);
-    blade.translate(0, 3, 0);  // bottom edge at y = 0
+    const blade = new THREE.BoxGeometry(BLADE_THICKNESS_MM, 14, BLADE_WIDTH_MM);
+    blade.translate(0, 7, 0);  // bottom edge (the tip) at y = 0, long enough to stand out of the cornea
     this.keratome = new THREE.Mesh(blade, new THREE.MeshLambertMaterial({color: 0x607d8b, transparent: true, opacity: 0.85}));
     this.scene.add(this.keratome);
   }
@@ -175,7 +175,7 @@ class FeltPlot {
   }
   reset() { this.depth.length = this.felt.length = this.model.length = 0; }
   add(m) {
-    this.depth.push(m.tip_depth_mm); this.felt.push(m.force_N); this.model.push(m.punctured ? null : this.modelAt(m.tip_depth_mm));
+    this.depth.push(m.tip_depth_mm); this.felt.push(m.force_N); this.model.push(this.modelAt(m.tip_depth_mm));
   }
   draw() { this.plot.setData([this.depth, this.felt, this.model], true); }
 }
@@ -231,4 +231,4 @@ async function benchmark(n, ms) {
           p95IntervalMs: sorted[Math.floor(sorted.length * 0.95)]};
 }
 
-window.rigCornea3d = {onMesh, showFidelity, benchmark, view, renderer: () => view.renderer.getContext().getParameter(0x1F01)};
+window.rigCornea3d = {onMesh, showFidelity, benchmark, view, felt, renderer: () => view.renderer.getContext().getParameter(0x1F01)};

@@ -65,6 +65,10 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     console.log(`  run ${runId}: ${opened.points} samples, cycles ${opened.firstCycle}..${opened.lastCycle}, x ${opened.xMin.toFixed(2)}..` +
                 `${opened.xMax.toFixed(2)} mm, peak ${opened.peakN.toFixed(4)} N at ${opened.peakX.toFixed(2)} mm, model on ${opened.modelPoints}`);
 
+    const bad = await fetch(`${rig.url}/api/runs/${runId}/stream?from=abc`);
+    const badText = await bad.text();
+    if (bad.status !== 400 || !badText.includes("'from'")) throw new Error(`?from=abc answered ${bad.status}: ${badText}`);
+
     // An old run from the picker, while a newer one is the rig's last.
     const second = await post(page, "/api/run", {...cut, eye_id: "NEWER", depth_mm: 6});
     await until("the second cut done", async () => { const s = await status(rig.url); return s.state === "Done" && s.run_id === 0; }, 30000);
