@@ -1,10 +1,11 @@
 // The Haptics tab's 3D view (three.js): the mass-spring cornea as rigd builds it
 // (daemon/haptic/mass_spring_cornea.cpp: an n x n grid over a 6 mm patch, stretching,
 // shearing and bending springs; n = 13 gives 169 vertices and 886 springs) and the
-// keratome, redrawn on every animation frame from the latest MeshFrame. A MeshFrame carries
-// the centre row across the cut (x, depth); the other rows take the same depth profile by
-// distance from the tip (the dent under a round tip), and the rows the blade crosses open
-// like the centre row. Beside it: felt force against the model's force by tip depth.
+// keratome, redrawn on every animation frame from the latest MeshFrame. A MeshFrame of a
+// mesh up to 1024 vertices carries every vertex (grid_x/y/z_mm): drawn as they are. A finer
+// mesh sends only the centre row across the cut (x, depth); the other rows then take the
+// same depth profile by distance from the tip (the dent under a round tip) and the rows the
+// blade crosses open like the centre row. Beside it: felt force against the model's force.
 import * as THREE from "./vendor/three.module.js";
 
 const PATCH_MM = 6.0, BLADE_WIDTH_MM = 2.8, BLADE_THICKNESS_MM = 0.2;
@@ -112,9 +113,21 @@ class CorneaView {
     this.deform({x_mm: [], z_mm: [], tip_depth_mm: 0, punctured: false});
   }
 
-  // Vertex positions from a MeshFrame's centre row (see the file's head).
+  // Vertex positions from a MeshFrame: the daemon's own, or from its centre row (file head).
   deform(m) {
-    const n = this.n, p = this.positions.array, xs = m.x_mm, zs = m.z_mm, rows = xs.length === n;
+    this.keratome.position.y = -Math.max(0, m.tip_depth_mm || 0);
+    const p = this.positions.array;
+    this.whole = Boolean(m.grid_z_mm && m.grid_z_mm.length === this.n * this.n);
+    if (this.whole) {
+      for (let i = 0; i < m.grid_z_mm.length; ++i) {
+        p[3 * i] = m.grid_x_mm[i];
+        p[3 * i + 1] = -m.grid_z_mm[i];
+        p[3 * i + 2] = m.grid_y_mm[i];
+      }
+      this.positions.needsUpdate = true;
+      return;
+    }
+    const n = this.n, xs = m.x_mm, zs = m.z_mm, rows = xs.length === n;
     const spacing = PATCH_MM / (n - 1), half = PATCH_MM / 2;
     const depthAt = radius => {  // the centre row's depth at a distance from the axis, both sides averaged
       if (!rows) return 0;
@@ -132,7 +145,6 @@ class CorneaView {
       p[3 * i + 2] = y0;
     }
     this.positions.needsUpdate = true;
-    this.keratome.position.y = -Math.max(0, m.tip_depth_mm || 0);
   }
 
   show(m) {
@@ -196,10 +208,11 @@ requestAnimationFrame(onFrame);
 function onMesh(m) {
   if (m.x_mm.length !== view.n) { view.setGrid(m.x_mm.length); felt.reset(); felt.loadModel(); }
   view.show(m);
+  window.rig.mesh.whole = Boolean(m.grid_z_mm);
   felt.add(m);
   feltDirty = true;
   $("cornea3d-caption").textContent = `${view.n * view.n} vertices, ${view.springCount} springs` +
-    (view.lines.visible ? "" : " (surface only)") + ` · tip ${fmt(m.tip_depth_mm, 3)} mm · ` +
+    (view.lines.visible ? "" : " (surface only)") + (view.whole ? " as rigd has them" : " (rows from the centre row)") + ` · tip ${fmt(m.tip_depth_mm, 3)} mm · ` +
     `felt ${fmt(m.force_N, 4)} N` + (m.punctured ? " · punctured: the cut is open" : "");
 }
 

@@ -9,6 +9,8 @@ const a = args();
 const shot = artifacts(a.artifacts);
 const LINK_DROP_REGISTER = 104;  // proto/include/rig/proto/daq_register_map.hpp sim_panel::kLinkDrop
 
+const started = Date.now();
+const stage = what => console.log(`  ${((Date.now() - started) / 1000).toFixed(1)} s: ${what}`);
 const post = (page, path, body) => page.evaluate(async ([p, b]) => {
   const r = await fetch(p, {method: "POST", headers: {"Content-Type": "application/json"}, body: JSON.stringify(b)});
   return {status: r.status, body: await r.json()};
@@ -50,12 +52,14 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     const first = await post(page, "/api/run", cut);
     if (first.status !== 200) throw new Error(`run refused: ${JSON.stringify(first.body)}`);
     const runId = first.body.run_id;
+    stage("cut 1 started");
     await until("mid-cut (6 mm in)", async () => { const s = await status(rig.url); return s.position_mm - s.surface_mm > 6; }, 30000);
     const midCut = await browser.newPage({viewport: {width: 1400, height: 1500}});
     midCut.on("pageerror", e => console.error(`  page error: ${e.message}`));
     await midCut.goto(rig.url);
     await until("the cut done", async () => (await status(rig.url)).state === "Done", 30000);
     await until("the run archived as completed", async () => (await archived(rig.url, runId)).outcome === "completed", 5000);
+    stage("cut 1 done");
     const opened = await checkWholeRun(midCut, rig.url, runId, cut.depth_mm, "opened mid-cut");
     await midCut.screenshot({path: shot("run-view-opened-mid-cut.png"), fullPage: true});
     const after = await browser.newPage({viewport: {width: 1400, height: 1500}});
@@ -70,6 +74,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     if (bad.status !== 400 || !badText.includes("'from'")) throw new Error(`?from=abc answered ${bad.status}: ${badText}`);
 
     // An old run from the picker, while a newer one is the rig's last.
+    stage("cut 1 checked on two pages");
     const second = await post(page, "/api/run", {...cut, eye_id: "NEWER", depth_mm: 6});
     await until("the second cut done", async () => { const s = await status(rig.url); return s.state === "Done" && s.run_id === 0; }, 30000);
     await until("the picker lists the first run", () => after.evaluate(
@@ -84,8 +89,10 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     console.log(`  picked run ${runId} while run ${second.body.run_id} is the last: ${caption}`);
 
     // A fault mid-cut: the DAQ link drops.
+    stage("old run checked");
     const third = await post(page, "/api/run", {...cut, eye_id: "FAULTED"});
     await until("3 mm into the tissue", async () => { const s = await status(rig.url); return s.position_mm - s.surface_mm > 3; }, 30000);
+    stage("3 mm into cut 3");
     await simPanelWrite(rig.simPort, LINK_DROP_REGISTER, 1);
     try {
       await until("the banner names the fault and the action", () => page.evaluate(
