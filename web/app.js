@@ -219,7 +219,7 @@ function nextAction(s) {
   if (s.state === "EStop") return s.interlocks.estop_input ? "Release the e-stop button, then press Reset, then Home."
                                                             : "Press Reset, then Home before the next cut.";
   if (s.state === "Fault") {
-    if (!s.interlocks.link_ok) return "Check the DAQ's cable and power; then press Reset, then Home.";
+    if (!s.interlocks.link_ok || s.fault.includes("DAQ link")) return "Check the DAQ's cable and power; then press Reset, then Home.";
     return "Remove the cause, then press Reset, then Home before the next cut.";
   }
   if (!s.homed && s.state === "Idle") return "Not homed: press Home before a cut.";

@@ -61,6 +61,7 @@ class CorneaView {
       this.tilt = Math.min(1.5, Math.max(0.1, this.tilt + (e.clientY - drag.y) * 0.01));
       drag = {x: e.clientX, y: e.clientY};
       this.placeCamera();
+      this.moved = true;
     });
     this.setGrid(13);
   }
@@ -110,7 +111,7 @@ class CorneaView {
     this.lines = new THREE.LineSegments(lines, new THREE.LineBasicMaterial({color: 0x5d4037}));
     this.lines.visible = count <= MAX_VERTICES_WITH_SPRINGS;
     this.scene.add(this.surface, this.lines);
-    this.deform({x_mm: [], z_mm: [], tip_depth_mm: 0, punctured: false});
+    this.show({x_mm: [], z_mm: [], tip_depth_mm: 0, punctured: false});
   }
 
   // Vertex positions from a MeshFrame: the daemon's own, or from its centre row (file head).
@@ -154,7 +155,14 @@ class CorneaView {
 
   // One animation frame: the latest MeshFrame (if new), then the picture.
   render(now) {
+    // Drawn only when something changed and the Haptics tab is shown: software WebGL costs
+    // a core's share at 60 frames/s, and the Live tab needs the machine.
+    const visible = this.container.offsetParent !== null;
+    if (visible && !this.wasVisible) this.moved = true;  // the tab was just opened
+    this.wasVisible = visible;
+    if ((!this.dirty && !this.moved) || !visible) return;
     if (this.dirty) { this.deform(this.frame); this.dirty = false; }
+    this.moved = false;
     this.renderer.render(this.scene, this.camera);
     if (this.last !== undefined) this.stats.intervals.push(now - this.last);
     if (this.stats.intervals.length > 2000) this.stats.intervals.shift();

@@ -16,6 +16,16 @@ const post = (page, path, body) => page.evaluate(async ([p, b]) => {
   return {status: r.status, body: await r.json()};
 }, [path, body]);
 
+// Waits on the rig's status; a timeout says where the rig was (a fault under load, ...).
+async function untilRig(url, what, predicate, timeoutMs) {
+  let last = null;
+  try {
+    await until(what, async () => predicate(last = await status(url)), timeoutMs);
+  } catch (e) {
+    throw new Error(`${e.message}; rig: ${last && `${last.state} ${last.phase}, fault "${last.fault}", x ${(last.position_mm - last.surface_mm).toFixed(2)} mm`}`);
+  }
+}
+
 async function archived(url, runId) {
   const s = await (await fetch(`${url}/api/runs/${runId}/stream`)).json();
   return {count: s.cycle.length, first: s.cycle[0], last: s.cycle[s.cycle.length - 1], peak: Math.max(...s.force_N), outcome: s.outcome};
@@ -45,25 +55,26 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
   const {browser, page} = await openPage(rig.url);
   try {
     await post(page, "/api/home", {});
-    await until("Ready after homing", async () => (await status(rig.url)).state === "Ready", 60000);
+    await untilRig(rig.url, "Ready after homing", s => s.state === "Ready", 60000);
     await post(page, "/api/tare", {});
-    await until("tared", async () => (await status(rig.url)).tared, 10000);
+    await untilRig(rig.url, "tared", s => s.tared, 10000);
     const cut = {eye_id: "MID-CUT", iop_mmHg: 15, velocity_mm_s: 4, depth_mm: 12, hold_s: 0, post_mortem_h: 2};
     const first = await post(page, "/api/run", cut);
     if (first.status !== 200) throw new Error(`run refused: ${JSON.stringify(first.body)}`);
     const runId = first.body.run_id;
     stage("cut 1 started");
-    await until("mid-cut (6 mm in)", async () => { const s = await status(rig.url); return s.position_mm - s.surface_mm > 6; }, 30000);
+    await untilRig(rig.url, "mid-cut (6 mm in)", s => s.position_mm - s.surface_mm > 6, 30000);
     const midCut = await browser.newPage({viewport: {width: 1400, height: 1500}});
     midCut.on("pageerror", e => console.error(`  page error: ${e.message}`));
-    await midCut.goto(rig.url);
-    await until("the cut done", async () => (await status(rig.url)).state === "Done", 30000);
+    await midCut.goto(rig.url, {waitUntil: "domcontentloaded"});
+    await untilRig(rig.url, "the cut done", s => s.state === "Done", 30000);
     await until("the run archived as completed", async () => (await archived(rig.url, runId)).outcome === "completed", 5000);
     stage("cut 1 done");
     const opened = await checkWholeRun(midCut, rig.url, runId, cut.depth_mm, "opened mid-cut");
     await midCut.screenshot({path: shot("run-view-opened-mid-cut.png"), fullPage: true});
+    await midCut.close();
     const after = await browser.newPage({viewport: {width: 1400, height: 1500}});
-    await after.goto(rig.url);
+    await after.goto(rig.url, {waitUntil: "domcontentloaded"});
     await checkWholeRun(after, rig.url, runId, cut.depth_mm, "opened after the cut");
     await after.screenshot({path: shot("run-view-opened-after-cut.png"), fullPage: true});
     console.log(`  run ${runId}: ${opened.points} samples, cycles ${opened.firstCycle}..${opened.lastCycle}, x ${opened.xMin.toFixed(2)}..` +
@@ -76,7 +87,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     // An old run from the picker, while a newer one is the rig's last.
     stage("cut 1 checked on two pages");
     const second = await post(page, "/api/run", {...cut, eye_id: "NEWER", depth_mm: 6});
-    await until("the second cut done", async () => { const s = await status(rig.url); return s.state === "Done" && s.run_id === 0; }, 30000);
+    await untilRig(rig.url, "the second cut done", s => s.state === "Done" && s.run_id === 0, 30000);
     await until("the picker lists the first run", () => after.evaluate(
       id => [...document.querySelectorAll("#run-pick option")].some(o => o.value === String(id)), runId), 10000);
     await after.selectOption("#run-pick", String(runId));
@@ -85,18 +96,25 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     if (!events.includes("run_started") || !events.includes("run_ended")) throw new Error(`old run's events: ${events}`);
     const caption = await after.textContent("#run-caption");
     if (!caption.includes("MID-CUT") || caption.includes("following")) throw new Error(`caption: ${caption}`);
+    // The cursor on the residual plot: the sample's readings and its camera frame, if the run has frames.
+    const frames = (await (await fetch(`${rig.url}/api/runs/${runId}/stream?from=0&limit=1`)).json()).frames.length;
+    const over = await after.locator("#plot-residual .u-over").boundingBox();
+    await after.mouse.move(over.x + over.width * 0.6, over.y + over.height / 2);
+    await until("the cursor's sample", async () => /cycle \d+/.test(await after.textContent("#cursor")), 5000);
+    if (frames > 0) await until("the camera frame at the cursor", () => after.evaluate(() => (window.rig.cursorFrames || 0) >= 1), 5000);
     await after.screenshot({path: shot("run-view-old-run.png"), fullPage: true});
-    console.log(`  picked run ${runId} while run ${second.body.run_id} is the last: ${caption}`);
+    console.log(`  picked run ${runId} while run ${second.body.run_id} is the last: ${caption}; ${frames} camera frames, ` +
+                `cursor: ${await after.textContent("#cursor")}`);
 
     // A fault mid-cut: the DAQ link drops.
     stage("old run checked");
     const third = await post(page, "/api/run", {...cut, eye_id: "FAULTED"});
-    await until("3 mm into the tissue", async () => { const s = await status(rig.url); return s.position_mm - s.surface_mm > 3; }, 30000);
+    await untilRig(rig.url, "3 mm into the tissue", s => s.position_mm - s.surface_mm > 3, 30000);
     stage("3 mm into cut 3");
     await simPanelWrite(rig.simPort, LINK_DROP_REGISTER, 1);
     try {
       await until("the banner names the fault and the action", () => page.evaluate(
-        () => /DAQ link lost/.test(window.rig.banner) && /Reset, then Home/.test(window.rig.banner)), 10000);
+        () => /DAQ link lost/.test(window.rig.banner) && /cable and power; then press Reset, then Home/.test(window.rig.banner)), 10000);
     } catch (e) {
       throw new Error(`${e.message}: banner "${await page.evaluate(() => window.rig.banner)}", status ${JSON.stringify(await status(rig.url))}`);
     }
