@@ -14,7 +14,8 @@
 namespace rig::api {
 namespace {
 
-std::int64_t query_integer(const std::string& query, const std::string& name, std::int64_t fallback) {
+std::int64_t query_integer(const std::string& query, const std::string& name,
+                           std::int64_t fallback) {
   const std::string key = name + "=";
   std::size_t at = 0;
   while (at < query.size()) {
@@ -25,7 +26,8 @@ std::int64_t query_integer(const std::string& query, const std::string& name, st
       std::int64_t value = 0;
       const auto [ptr, ec] = std::from_chars(first, last, value);
       if (ec != std::errc() || ptr != last || value < 0) {
-        throw std::invalid_argument("query field '" + name + "' must be a non-negative integer, not '" +
+        throw std::invalid_argument("query field '" + name +
+                                    "' must be a non-negative integer, not '" +
                                     std::string(first, last) + "'");
       }
       return value;
@@ -52,11 +54,12 @@ RunInfo run_info(archive::Database& db, std::int64_t run_id) {
 }
 
 // Samples from the cycle on, column-wise as in the live SampleBatch.
-void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id, const ReplayQuery& query,
-                 const std::shared_ptr<const model::ForceModel>& model) {
+void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id,
+                 const ReplayQuery& query, const std::shared_ptr<const model::ForceModel>& model) {
   const RunInfo info = run_info(db, run_id);
   archive::Statement q = db.prepare(
-      "SELECT idx, t_s, position_mm, force_N, iop_mmHg, phase FROM samples WHERE run_id = ? AND idx >= ? ORDER BY idx LIMIT ?");
+      "SELECT idx, t_s, position_mm, force_N, iop_mmHg, phase FROM samples WHERE run_id = ? AND "
+      "idx >= ? ORDER BY idx LIMIT ?");
   q.bind(1, run_id).bind(2, query.from_cycle).bind(3, query.limit + 1);
   std::vector<std::int64_t> cycle;
   std::vector<double> t, x, force, predicted, residual, iop;
@@ -70,8 +73,9 @@ void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id, 
     }
     const auto cut_phase = static_cast<rt::CutPhase>(q.integer(5));
     const double x_mm = q.real(2) - info.surface_mm;
-    const double m = model ? service::StreamHub::predict_at(*model, cut_phase, x_mm, info.iop_mmHg, hold_x_mm)
-                           : std::numeric_limits<double>::quiet_NaN();
+    const double m =
+        model ? service::StreamHub::predict_at(*model, cut_phase, x_mm, info.iop_mmHg, hold_x_mm)
+              : std::numeric_limits<double>::quiet_NaN();
     cycle.push_back(q.integer(0));
     t.push_back(q.real(1));
     x.push_back(x_mm);
@@ -104,40 +108,52 @@ ReplayQuery parse_replay_query(const std::string& target) {
   const std::string text = target.substr(q + 1);
   query.from_cycle = query_integer(text, "from", 0);
   query.limit = query_integer(text, "limit", query.limit);
-  if (query.limit < 1 || query.limit > 1000000) throw std::invalid_argument("query field 'limit' must be 1..1000000");
+  if (query.limit < 1 || query.limit > 1000000)
+    throw std::invalid_argument("query field 'limit' must be 1..1000000");
   return query;
 }
 
-std::string run_stream_json(archive::Archive& archive, std::int64_t run_id, const ReplayQuery& query,
+std::string run_stream_json(archive::Archive& archive, std::int64_t run_id,
+                            const ReplayQuery& query,
                             const std::shared_ptr<const model::ForceModel>& model) {
   const auto row = archive.find_run(run_id);
   if (!row) throw std::out_of_range("no run " + std::to_string(run_id));
-  nlohmann::json j = {{"type", "run_stream"}, {"run_id", run_id}, {"eye_id", row->eye_id}, {"outcome", row->outcome},
-                      {"reason", row->reason}, {"source", row->source}, {"started_at", row->started_at},
-                      {"model", model ? model->name : std::string()}};
-  archive::Database db(archive.path(), true);  // a reader of its own: the recorder writes meanwhile (WAL)
+  nlohmann::json j = {
+      {"type", "run_stream"},          {"run_id", run_id},
+      {"eye_id", row->eye_id},         {"outcome", row->outcome},
+      {"reason", row->reason},         {"source", row->source},
+      {"started_at", row->started_at}, {"model", model ? model->name : std::string()}};
+  archive::Database db(archive.path(),
+                       true);  // a reader of its own: the recorder writes meanwhile (WAL)
   add_samples(j, db, run_id, query, model);
   nlohmann::json events = nlohmann::json::array();
-  for (const auto& e : archive.run_events(run_id)) events.push_back({{"t_s", e.t_s}, {"kind", e.kind}, {"message", e.message}});
+  for (const auto& e : archive.run_events(run_id))
+    events.push_back({{"t_s", e.t_s}, {"kind", e.kind}, {"message", e.message}});
   j["events"] = std::move(events);
   nlohmann::json frames = nlohmann::json::array();
   for (const auto& f : archive.run_frames(run_id)) {
-    if (f.sample_index >= 0) frames.push_back({{"frame_no", f.frame_no}, {"sample_index", f.sample_index}});
+    if (f.sample_index >= 0)
+      frames.push_back({{"frame_no", f.frame_no}, {"sample_index", f.sample_index}});
   }
   j["frames"] = std::move(frames);
   return j.dump();
 }
 
-FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id, std::int64_t frame_no) {
+FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id,
+                                std::int64_t frame_no) {
   for (const auto& f : archive.run_frames(run_id)) {
     if (f.frame_no != frame_no) continue;
-    FramePixels out{f.width, f.height, f.sample_index, std::string(static_cast<std::size_t>(f.bytes), '\0')};
+    FramePixels out{f.width, f.height, f.sample_index,
+                    std::string(static_cast<std::size_t>(f.bytes), '\0')};
     std::ifstream in(f.file, std::ios::binary);
     in.seekg(f.file_offset);
-    if (!in.read(out.pixels.data(), f.bytes)) throw std::runtime_error("frame file " + f.file + ": cannot read frame " + std::to_string(frame_no));
+    if (!in.read(out.pixels.data(), f.bytes))
+      throw std::runtime_error("frame file " + f.file + ": cannot read frame " +
+                               std::to_string(frame_no));
     return out;
   }
-  throw std::out_of_range("run " + std::to_string(run_id) + " has no frame " + std::to_string(frame_no));
+  throw std::out_of_range("run " + std::to_string(run_id) + " has no frame " +
+                          std::to_string(frame_no));
 }
 
 }  // namespace rig::api

@@ -13,8 +13,8 @@
 namespace rig::api {
 
 struct ReplayQuery {
-  std::int64_t from_cycle = 0;   // first loop cycle wanted
-  std::int64_t limit = 200000;   // samples at most in one answer (the page asks again for more)
+  std::int64_t from_cycle = 0;  // first loop cycle wanted
+  std::int64_t limit = 200000;  // samples at most in one answer (the page asks again for more)
 };
 
 // Reads ?from=N&limit=M of a request target; throws std::invalid_argument naming the field.
@@ -22,7 +22,8 @@ ReplayQuery parse_replay_query(const std::string& target);
 
 // The run's samples from the query's cycle as JSON (proto RunStream). archive: the open
 // archive (samples, events, frames); model may be null (model and residual are then null).
-std::string run_stream_json(archive::Archive& archive, std::int64_t run_id, const ReplayQuery& query,
+std::string run_stream_json(archive::Archive& archive, std::int64_t run_id,
+                            const ReplayQuery& query,
                             const std::shared_ptr<const model::ForceModel>& model);
 
 // One archived camera frame's pixels (8-bit grey, row-major) and its size; throws
@@ -32,6 +33,7 @@ struct FramePixels {
   std::int64_t sample_index = -1;
   std::string pixels;
 };
-FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id, std::int64_t frame_no);
+FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id,
+                                std::int64_t frame_no);
 
 }  // namespace rig::api
