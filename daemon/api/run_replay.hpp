@@ -14,7 +14,8 @@ namespace rig::api {
 
 struct ReplayQuery {
   std::int64_t from_cycle = 0;  // first loop cycle wanted
-  std::int64_t limit = 200000;  // samples at most in one answer (the page asks again for more)
+  // Samples at most in one answer (50 s at 1 kHz); the page asks again from next_cycle.
+  std::int64_t limit = 50000;
 };
 
 // Reads ?from=N&limit=M of a request target; throws std::invalid_argument naming the field.
