@@ -10,7 +10,7 @@ import * as THREE from "./vendor/three.module.js";
 
 const PATCH_MM = 6.0, BLADE_WIDTH_MM = 2.8, BLADE_THICKNESS_MM = 0.2;
 // Springs are drawn as lines up to this many vertices; a finer mesh shows its surface only
-// (100,000 lines in a software renderer cost more than a frame).
+// (100,000 lines in a software renderer cost more than a frame), at half resolution.
 const MAX_VERTICES_WITH_SPRINGS = 2500;
 const $ = id => document.getElementById(id);
 const fmt = (v, d) => (v === null || v === undefined || Number.isNaN(v)) ? "—" : Number(v).toFixed(d);
@@ -111,6 +111,10 @@ class CorneaView {
     this.lines = new THREE.LineSegments(lines, new THREE.LineBasicMaterial({color: 0x5d4037}));
     this.lines.visible = count <= MAX_VERTICES_WITH_SPRINGS;
     this.scene.add(this.surface, this.lines);
+    // A mesh finer than the picture (130 x 130 cells over ~400 px: 3 px a cell) is drawn at
+    // half resolution, scaled up by the browser: software WebGL's cost is per pixel and per
+    // triangle, and a cell still covers a pixel and a half.
+    this.renderer.setPixelRatio(count > MAX_VERTICES_WITH_SPRINGS ? 0.5 : 1);
     this.show({x_mm: [], z_mm: [], tip_depth_mm: 0, punctured: false});
   }
 
