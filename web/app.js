@@ -68,12 +68,15 @@ const residualPlot = new uPlot({
 function plotted() {
   const [x, force, model] = forcePlot.data;
   const d = rigRun.view.data;
-  let peak = -Infinity, peakX = null, duplicates = 0, holes = 0;
-  for (let i = 0; i < x.length; ++i) if (force[i] > peak) { peak = force[i]; peakX = x[i]; }
+  let peak = -Infinity, peakX = null, duplicates = 0, holes = 0, xMin = Infinity, xMax = -Infinity, modelMax = -Infinity;
+  for (let i = 0; i < x.length; ++i) {  // loops, not Math.max(...): a long run has more samples than a call has arguments
+    if (force[i] > peak) { peak = force[i]; peakX = x[i]; }
+    xMin = Math.min(xMin, x[i]); xMax = Math.max(xMax, x[i]);
+    if (model[i] !== null && Number.isFinite(model[i])) modelMax = Math.max(modelMax, model[i]);
+  }
   for (let i = 1; i < d.cycle.length; ++i) { if (d.cycle[i] <= d.cycle[i - 1]) duplicates++; else if (d.cycle[i] !== d.cycle[i - 1] + 1) holes++; }
-  return {runId: rigRun.view.runId, points: x.length, xMin: Math.min(...x), xMax: Math.max(...x), peakN: peak, peakX,
-          modelPoints: model.filter(v => v !== null && Number.isFinite(v)).length,
-          modelMax: Math.max(...model.filter(v => v !== null && Number.isFinite(v))),
+  return {runId: rigRun.view.runId, points: x.length, xMin, xMax, peakN: peak, peakX,
+          modelPoints: model.filter(v => v !== null && Number.isFinite(v)).length, modelMax,
           firstCycle: d.cycle[0], lastCycle: d.cycle[d.cycle.length - 1], duplicates, holes,
           phases: [...new Set(d.phase)], gapsAccepted: rigRun.view.gaps};
 }
