@@ -41,12 +41,20 @@ std::int64_t recorded_run(archive::Archive& a) {
   return id;
 }
 
-TEST(RunReplay, TheStreamGivesEverySampleFromTheAskedCycleWithLoopTimeDepthAndEvents) {
-  testing::ScratchDir dir("run-replay");
-  archive::Archive a(dir.file("a.sqlite"));
-  const std::int64_t id = recorded_run(a);
-  const auto j = nlohmann::json::parse(
-      run_stream_json(a, id, parse_replay_query("/api/runs/1/stream?from=550"), nullptr));
+// A scratch archive holding the recorded run; stream(target) answers as GET target would.
+class RunReplay : public ::testing::Test {
+ protected:
+  nlohmann::json stream(const std::string& target,
+                        const std::shared_ptr<const model::ForceModel>& model = nullptr) {
+    return nlohmann::json::parse(run_stream_json(archive_, id_, parse_replay_query(target), model));
+  }
+  rig::testing::ScratchDir dir_{"run-replay"};
+  archive::Archive archive_{dir_.file("a.sqlite")};
+  std::int64_t id_ = recorded_run(archive_);
+};
+
+TEST_F(RunReplay, TheStreamGivesEverySampleFromTheAskedCycleWithLoopTimeDepthAndEvents) {
+  const auto j = stream("/api/runs/1/stream?from=550");
   ASSERT_EQ(j["cycle"].size(), 50U);
   EXPECT_EQ(j["cycle"][0], 550);
   EXPECT_EQ(j["cycle"][49], 599);
@@ -61,30 +69,22 @@ TEST(RunReplay, TheStreamGivesEverySampleFromTheAskedCycleWithLoopTimeDepthAndEv
   EXPECT_EQ(j["events"][0]["kind"], "contact");
 }
 
-TEST(RunReplay, ALimitPagesTheRunAndTheNextPageStartsWhereTheLastEnded) {
-  testing::ScratchDir dir("run-replay-pages");
-  archive::Archive a(dir.file("a.sqlite"));
-  const std::int64_t id = recorded_run(a);
-  const auto first = nlohmann::json::parse(
-      run_stream_json(a, id, parse_replay_query("x?from=0&limit=60"), nullptr));
+TEST_F(RunReplay, ALimitPagesTheRunAndTheNextPageStartsWhereTheLastEnded) {
+  const auto first = stream("x?from=0&limit=60");
   ASSERT_EQ(first["cycle"].size(), 60U);
   EXPECT_TRUE(first["more"].get<bool>());
   const std::string next =
       "x?limit=60&from=" + std::to_string(first["next_cycle"].get<std::int64_t>());
-  const auto second =
-      nlohmann::json::parse(run_stream_json(a, id, parse_replay_query(next), nullptr));
+  const auto second = stream(next);
   ASSERT_EQ(second["cycle"].size(), 40U);
   EXPECT_EQ(second["cycle"][0], 560);
   EXPECT_FALSE(second["more"].get<bool>());
 }
 
-TEST(RunReplay, TheModelIsDrawnAtTheRunsIopAndTheResidualIsMeasuredMinusModel) {
-  testing::ScratchDir dir("run-replay-model");
-  archive::Archive a(dir.file("a.sqlite"));
-  const std::int64_t id = recorded_run(a);
+TEST_F(RunReplay, TheModelIsDrawnAtTheRunsIopAndTheResidualIsMeasuredMinusModel) {
   auto model = std::make_shared<const model::ForceModel>(
       model::ForceModel::load(testing::source("model/params/paper-interpreted.toml")));
-  const auto j = nlohmann::json::parse(run_stream_json(a, id, ReplayQuery{}, model));
+  const auto j = stream("/api/runs/1/stream", model);
   ASSERT_EQ(j["cycle"].size(), 100U);
   for (std::size_t i = 0; i < 100; i += 33) {
     const double x = j["x_mm"][i].get<double>();
@@ -94,7 +94,7 @@ TEST(RunReplay, TheModelIsDrawnAtTheRunsIopAndTheResidualIsMeasuredMinusModel) {
   }
 }
 
-TEST(RunReplay, BadQueriesAndUnknownRunsAreRefusedNamingWhat) {
+TEST_F(RunReplay, BadQueriesAndUnknownRunsAreRefusedNamingWhat) {
   EXPECT_THROW(parse_replay_query("/s?from=abc"), std::invalid_argument);
   EXPECT_THROW(parse_replay_query("/s?from=-3"), std::invalid_argument);
   EXPECT_THROW(parse_replay_query("/s?limit=0"), std::invalid_argument);
@@ -105,10 +105,8 @@ TEST(RunReplay, BadQueriesAndUnknownRunsAreRefusedNamingWhat) {
     EXPECT_NE(std::string(e.what()).find("'from'"), std::string::npos) << e.what();
   }
   EXPECT_EQ(parse_replay_query("/s").from_cycle, 0);
-  testing::ScratchDir dir("run-replay-none");
-  archive::Archive a(dir.file("a.sqlite"));
-  EXPECT_THROW(run_stream_json(a, 42, ReplayQuery{}, nullptr), std::out_of_range);
-  EXPECT_THROW(read_archived_frame(a, 42, 0), std::out_of_range);
+  EXPECT_THROW(run_stream_json(archive_, 42, ReplayQuery{}, nullptr), std::out_of_range);
+  EXPECT_THROW(read_archived_frame(archive_, id_, 0), std::out_of_range);  // a run without frames
 }
 
 }  // namespace
