@@ -31,8 +31,11 @@ async function api(path, body) {
 
 // ---------------------------------------------------------------- live plots
 const plotWidth = () => Math.min(window.innerWidth - 80, 1400);
+// uPlot ranges x from the first and last values (it expects x sorted); a cut's x goes in
+// and back out, so the range comes from the data's own extremes.
+let forceXRange = [0, 1], drawnPoints = 0;
 const forcePlot = new uPlot({
-  width: plotWidth(), height: 340, scales: {x: {time: false}}, legend: {live: false},
+  width: plotWidth(), height: 340, scales: {x: {time: false, range: () => forceXRange}}, legend: {live: false},
   series: [{label: "x [mm]"}, {label: "measured [N]", stroke: "#1565c0", width: 1},
            {label: "model [N]", stroke: "#e65100", width: 2, dash: [8, 4]}],
   axes: [{label: "displacement from the corneal surface [mm]", values: rigTicks}, {label: "force [N]", values: rigTicks, size: 60}],
@@ -66,7 +69,8 @@ const residualPlot = new uPlot({
 
 // What the browser tests read from the plots themselves (not from the stream).
 function plotted() {
-  const [x, force, model] = forcePlot.data;
+  // As drawn at the last redraw (the arrays grow in between).
+  const [x, force, model] = forcePlot.data.map(column => column.slice(0, drawnPoints));
   const d = rigRun.view.data;
   let peak = -Infinity, peakX = null, duplicates = 0, holes = 0, xMin = Infinity, xMax = -Infinity, modelMax = -Infinity;
   for (let i = 0; i < x.length; ++i) {  // loops, not Math.max(...): a long run has more samples than a call has arguments
@@ -74,13 +78,20 @@ function plotted() {
     xMin = Math.min(xMin, x[i]); xMax = Math.max(xMax, x[i]);
     if (model[i] !== null && Number.isFinite(model[i])) modelMax = Math.max(modelMax, model[i]);
   }
-  for (let i = 1; i < d.cycle.length; ++i) { if (d.cycle[i] <= d.cycle[i - 1]) duplicates++; else if (d.cycle[i] !== d.cycle[i - 1] + 1) holes++; }
+  for (let i = 1; i < drawnPoints; ++i) { if (d.cycle[i] <= d.cycle[i - 1]) duplicates++; else if (d.cycle[i] !== d.cycle[i - 1] + 1) holes++; }
   return {runId: rigRun.view.runId, points: x.length, xMin, xMax, peakN: peak, peakX,
           modelPoints: model.filter(v => v !== null && Number.isFinite(v)).length, modelMax,
-          firstCycle: d.cycle[0], lastCycle: d.cycle[d.cycle.length - 1], duplicates, holes,
+          xScale: [forcePlot.scales.x.min, forcePlot.scales.x.max],
+          firstCycle: d.cycle[0], lastCycle: d.cycle[drawnPoints - 1], duplicates, holes,
           phases: [...new Set(d.phase)], gapsAccepted: rigRun.view.gaps};
 }
 rig.plotted = plotted;
+
+function extent(values) {
+  let lo = Infinity, hi = -Infinity;
+  for (const v of values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  return lo <= hi ? [lo, hi > lo ? hi : lo + 1] : [0, 1];
+}
 
 let redrawPending = false;
 function scheduleRedraw() {
@@ -90,6 +101,8 @@ function scheduleRedraw() {
     redrawPending = false;
     const d = rigRun.view.data;
     spans = phaseSpans(d);
+    forceXRange = extent(d.x);
+    drawnPoints = d.x.length;
     forcePlot.setData([d.x, d.force, d.model], true);
     residualPlot.setData([d.t, d.residual], true);
     rig.samples = d.t.length;

@@ -181,8 +181,10 @@ class FeltPlot {
     this.el = el;
     this.depth = []; this.felt = []; this.model = [];
     this.curve = null;
+    this.range = [0, 1];
     this.plot = new window.uPlot({
-      width: 520, height: 300, scales: {x: {time: false}}, legend: {live: false},
+      // x (the tip's depth) goes in and back out: ranged from its extremes, not first/last.
+      width: 520, height: 300, scales: {x: {time: false, range: () => this.range}}, legend: {live: false},
       series: [{label: "tip depth [mm]"}, {label: "felt [N]", stroke: "#1565c0", width: 1, points: {show: false}},
                {label: "model [N]", stroke: "#e65100", width: 2, dash: [8, 4], points: {show: false}}],
       axes: [{label: "tip depth below the surface [mm]", values: window.rigTicks}, {label: "force [N]", values: window.rigTicks, size: 60}],
@@ -201,7 +203,10 @@ class FeltPlot {
   add(m) {
     this.depth.push(m.tip_depth_mm); this.felt.push(m.force_N); this.model.push(this.modelAt(m.tip_depth_mm));
   }
-  draw() { this.plot.setData([this.depth, this.felt, this.model], true); }
+  draw() {
+    this.range = [this.depth.reduce((m, v) => Math.min(m, v), 0), this.depth.reduce((m, v) => Math.max(m, v), 0.1)];
+    this.plot.setData([this.depth, this.felt, this.model], true);
+  }
 }
 
 const view = new CorneaView($("cornea3d"));

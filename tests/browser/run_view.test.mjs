@@ -45,6 +45,7 @@ async function checkWholeRun(page, url, runId, depth, what) {
   if (p.firstCycle !== truth.first || p.lastCycle !== truth.last) fail("not the run's first to last sample");
   if (p.duplicates !== 0 || p.holes !== 0) fail("samples missing or twice");
   if (!(p.xMin < 0) || !(p.xMax > depth - 0.5)) fail("x does not span the approach to full depth");
+  if (!(p.xScale[0] <= p.xMin && p.xScale[1] >= p.xMax)) fail("the plot's x axis does not show all of x");
   if (Math.abs(p.peakN - truth.peak) > 1e-9 || !(p.peakN > 0.1)) fail("the puncture peak is not plotted");
   if (!(p.modelPoints > 0.5 * p.points) || !(p.modelMax > 0.1)) fail("no model curve");
   return p;
