@@ -2,16 +2,14 @@
 // ModelInfo, CameraFrame), run control over the HTTP API, and the model-lab view.
 "use strict";
 
-const MAX_POINTS = 30000;  // live plot history per series
 const PHASE_COLORS = {approach: "#eceff1", insert: "#fff3e0", hold: "#f3e5f5", retract: "#e8f5e9", none: "#ffffff"};
 const CATALOGUE = ["rate_dependence", "iop_stiffness", "shaft_friction", "rig_compliance", "sensor_drift",
                    "spatial_ripple", "mains_interference", "stick_slip", "stress_relaxation"];
 
 // What the browser tests read (window.rig): counts of what is drawn, the state, the lab's figures.
 const rig = window.rig = {samples: 0, modelPoints: 0, residualPoints: 0, frames: 0, state: "", runId: 0,
-                          events: [], lab: {before: null, after: null, verdict: null, plots: null},
+                          events: [], banner: "", lab: {before: null, after: null, verdict: null, plots: null},
                           mesh: {frames: 0, points: 0, punctured: false, maxDepth: 0, firstT: null, lastT: null}, haptic: null};
-const live = {x: [], force: [], model: [], t: [], residual: [], phases: [], curve: null};
 let token = sessionStorage.getItem("rigd-token") || "";
 
 const $ = id => document.getElementById(id);
@@ -32,68 +30,67 @@ async function api(path, body) {
 }
 
 // ---------------------------------------------------------------- live plots
+const plotWidth = () => Math.min(window.innerWidth - 80, 1400);
+// uPlot ranges x from the first and last values (it expects x sorted); a cut's x goes in
+// and back out, so the range comes from the data's own extremes.
+let forceXRange = [0, 1], drawnPoints = 0;
 const forcePlot = new uPlot({
-  width: Math.min(window.innerWidth - 80, 1400), height: 340, scales: {x: {time: false}},
+  width: plotWidth(), height: 340, scales: {x: {time: false, range: () => forceXRange}}, legend: {live: false},
   series: [{label: "x [mm]"}, {label: "measured [N]", stroke: "#1565c0", width: 1},
            {label: "model [N]", stroke: "#e65100", width: 2, dash: [8, 4]}],
-  axes: [{label: "displacement from the corneal surface [mm]"}, {label: "force [N]"}],
+  axes: [{label: "displacement from the corneal surface [mm]", values: rigTicks}, {label: "force [N]", values: rigTicks, size: 60}],
 }, [[], [], []], $("plot-force"));
 
+// Phase spans of the shown run, from the samples' phases.
+function phaseSpans(d) {
+  const spans = [];
+  for (let i = 0; i < d.t.length; ++i) {
+    const last = spans[spans.length - 1];
+    if (last && last.phase === d.phase[i]) last.t1 = d.t[i];
+    else spans.push({phase: d.phase[i], t0: d.t[i], t1: d.t[i]});
+  }
+  return spans;
+}
+let spans = [];
 const shadePhases = u => {
   const ctx = u.ctx;
-  for (const p of live.phases) {
+  for (const p of spans) {
     const x0 = u.valToPos(p.t0, "x", true), x1 = u.valToPos(p.t1, "x", true);
     ctx.fillStyle = PHASE_COLORS[p.phase] || "#fff";
     ctx.fillRect(x0, u.bbox.top, Math.max(1, x1 - x0), u.bbox.height);
   }
 };
 const residualPlot = new uPlot({
-  width: Math.min(window.innerWidth - 80, 1400), height: 240, scales: {x: {time: false}},
-  hooks: {drawClear: [shadePhases]},
+  width: plotWidth(), height: 240, scales: {x: {time: false}}, legend: {live: false},
+  hooks: {drawClear: [shadePhases], setCursor: [u => showCursor(u.cursor.idx)]},
   series: [{label: "t [s]"}, {label: "residual [N]", stroke: "#c62828", width: 1}],
-  axes: [{label: "loop time [s]"}, {label: "measured − model [N]"}],
+  axes: [{label: "loop time [s]", values: rigTicks}, {label: "measured − model [N]", values: rigTicks, size: 60}],
 }, [[], []], $("plot-residual"));
 
-function trim(array) { if (array.length > MAX_POINTS) array.splice(0, array.length - MAX_POINTS); }
-
-function addSamples(b) {
-  if (b.run_id && b.run_id !== rig.runId) {  // a new run: start the plots afresh
-    rig.runId = b.run_id;
-    for (const key of ["x", "force", "model", "t", "residual", "phases"]) live[key].length = 0;
-    rig.samples = rig.modelPoints = rig.residualPoints = 0;
-    backfill(b.run_id, b.t_s[0]);
+// What the browser tests read from the plots themselves (not from the stream).
+function plotted() {
+  // As drawn at the last redraw (the arrays grow in between).
+  const [x, force, model] = forcePlot.data.map(column => column.slice(0, drawnPoints));
+  const d = rigRun.view.data;
+  let peak = -Infinity, peakX = null, duplicates = 0, holes = 0, xMin = Infinity, xMax = -Infinity, modelMax = -Infinity;
+  for (let i = 0; i < x.length; ++i) {  // loops, not Math.max(...): a long run has more samples than a call has arguments
+    if (force[i] > peak) { peak = force[i]; peakX = x[i]; }
+    xMin = Math.min(xMin, x[i]); xMax = Math.max(xMax, x[i]);
+    if (model[i] !== null && Number.isFinite(model[i])) modelMax = Math.max(modelMax, model[i]);
   }
-  if (!b.run_id) return;  // between runs only the readings move
-  for (let i = 0; i < b.t_s.length; ++i) {
-    live.x.push(b.x_mm[i]);
-    live.force.push(b.force_N[i]);
-    live.model.push(b.model_N[i]);
-    live.t.push(b.t_s[i]);
-    live.residual.push(b.residual_N[i]);
-    const last = live.phases[live.phases.length - 1];
-    if (last && last.phase === b.phase[i]) last.t1 = b.t_s[i];
-    else live.phases.push({phase: b.phase[i], t0: b.t_s[i], t1: b.t_s[i]});
-    rig.samples++;
-    if (b.model_N[i] !== null) rig.modelPoints++;
-    if (b.residual_N[i] !== null) rig.residualPoints++;
-  }
-  for (const key of ["x", "force", "model", "t", "residual"]) trim(live[key]);
+  for (let i = 1; i < drawnPoints; ++i) { if (d.cycle[i] <= d.cycle[i - 1]) duplicates++; else if (d.cycle[i] !== d.cycle[i - 1] + 1) holes++; }
+  return {runId: rigRun.view.runId, points: x.length, xMin, xMax, peakN: peak, peakX,
+          modelPoints: model.filter(v => v !== null && Number.isFinite(v)).length, modelMax,
+          xScale: [forcePlot.scales.x.min, forcePlot.scales.x.max],
+          firstCycle: d.cycle[0], lastCycle: d.cycle[drawnPoints - 1], duplicates, holes,
+          phases: [...new Set(d.phase)], gapsAccepted: rigRun.view.gaps};
 }
+rig.plotted = plotted;
 
-// Opened mid-run: fetch what the archive already has of this run (measured only).
-async function backfill(runId, firstLiveT) {
-  try {
-    const past = await api(`/api/runs/${runId}/samples`);
-    if (rig.runId !== runId || !past.t_s.length) return;
-    const offset = firstLiveT - past.t_s[past.t_s.length - 1];  // archive t starts at 0; the stream at loop time
-    const keep = past.t_s.map((t, i) => i).filter(i => past.t_s[i] + offset < firstLiveT);
-    live.x.unshift(...keep.map(i => past.x_mm[i]));
-    live.force.unshift(...keep.map(i => past.force_N[i]));
-    live.model.unshift(...keep.map(() => null));
-    live.t.unshift(...keep.map(i => past.t_s[i] + offset));
-    live.residual.unshift(...keep.map(() => null));
-    scheduleRedraw();
-  } catch (e) { /* the live stream goes on regardless */ }
+function extent(values) {
+  let lo = Infinity, hi = -Infinity;
+  for (const v of values) if (Number.isFinite(v)) { lo = Math.min(lo, v); hi = Math.max(hi, v); }
+  return lo <= hi ? [lo, hi > lo ? hi : lo + 1] : [0, 1];
 }
 
 let redrawPending = false;
@@ -102,27 +99,89 @@ function scheduleRedraw() {
   redrawPending = true;
   setTimeout(() => {
     redrawPending = false;
-    forcePlot.setData([live.x, live.force, live.model], true);
-    residualPlot.setData([live.t, live.residual], true);
+    const d = rigRun.view.data;
+    spans = phaseSpans(d);
+    forceXRange = extent(d.x);
+    drawnPoints = d.x.length;
+    forcePlot.setData([d.x, d.force, d.model], true);
+    residualPlot.setData([d.t, d.residual], true);
+    rig.samples = d.t.length;
+    rig.modelPoints = rig.residualPoints = d.model.filter(v => v !== null && Number.isFinite(v)).length;
+    rig.runId = rigRun.view.runId;
+    drawEvents();
+    drawRunCaption();
   }, 100);
 }
+rigRun.onChange(scheduleRedraw);
+
+// The cursor on the residual plot: the sample's readings and the camera frame at it.
+let frameShown = null;
+async function showCursor(i) {
+  const d = rigRun.view.data;
+  if (i === null || i === undefined || i >= d.t.length) return;
+  $("cursor").textContent = `cycle ${d.cycle[i]} · t ${fmt(d.t[i], 3)} s · x ${fmt(d.x[i], 3)} mm · ` +
+    `measured ${fmt(d.force[i], 4)} N · model ${fmt(d.model[i], 4)} N · ${d.phase[i]}`;
+  const f = rigRun.frameAt(d.cycle[i]);
+  if (!f || !rigRun.view.runId || (frameShown && frameShown.run === rigRun.view.runId && frameShown.no === f.frame_no)) return;
+  frameShown = {run: rigRun.view.runId, no: f.frame_no};
+  const r = await fetch(`/api/runs/${rigRun.view.runId}/frames/${f.frame_no}`,
+                        {headers: token ? {Authorization: "Bearer " + token} : {}});
+  if (!r.ok) return;
+  const w = +r.headers.get("X-Frame-Width"), h = +r.headers.get("X-Frame-Height");
+  const grey = new Uint8Array(await r.arrayBuffer());
+  const canvas = $("cursor-frame");
+  canvas.width = w; canvas.height = h;
+  const image = canvas.getContext("2d").createImageData(w, h);
+  for (let p = 0; p < w * h; ++p) image.data.set([grey[p], grey[p], grey[p], 255], 4 * p);
+  canvas.getContext("2d").putImageData(image, 0, 0);
+  $("cursor-frame-caption").textContent = `frame ${f.frame_no}, triggered at cycle ${f.sample_index}`;
+  rig.cursorFrames = (rig.cursorFrames || 0) + 1;
+}
+
+function drawEvents() {
+  const events = rigRun.events();
+  rig.events = events;
+  $("events").innerHTML = events.length ? events.map(e =>
+    `<tr class="ev-${e.kind}"><td>${fmt(e.t_s, 3)} s</td><td>${escapeHtml(e.kind)}</td><td>${escapeHtml(e.message)}</td></tr>`).join("")
+    : "<tr><td>no events in this run</td></tr>";
+}
+
+function drawRunCaption() {
+  const v = rigRun.view, info = v.info;
+  $("run-caption").textContent = !v.runId ? "no run in the archive yet" :
+    `run ${v.runId}${info ? ` · eye ${info.eye_id} · ${info.outcome}${info.reason ? ": " + info.reason : ""}` : ""} · ` +
+    `${v.data.t.length} samples${v.following ? " · following the rig" : ""}` + (v.gaps ? ` · ${v.gaps} gaps the archive could not fill` : "");
+}
+
+const escapeHtml = text => String(text).replace(/[&<>"]/g, c => ({"&": "&amp;", "<": "&lt;", ">": "&gt;", "\"": "&quot;"})[c]);
+
+// The run picker: "follow the rig" or any archived run.
+async function loadRunPicker() {
+  try {
+    const list = await api("/api/runs");
+    const keep = $("run-pick").value;
+    $("run-pick").innerHTML = `<option value="follow">the rig's current or last run</option>` +
+      list.runs.slice().reverse().map(r => `<option value="${r.run_id}">run ${r.run_id} · ${escapeHtml(r.eye_id)} · ` +
+        `${r.outcome}${r.reason ? " (" + escapeHtml(r.reason) + ")" : ""} · ${r.samples} samples</option>`).join("");
+    $("run-pick").value = [...$("run-pick").options].some(o => o.value === keep) ? keep : "follow";
+  } catch (e) { /* the status line says what is wrong */ }
+}
+$("run-pick").onchange = () => {
+  const v = $("run-pick").value;
+  if (v === "follow") rigRun.follow(); else rigRun.show(+v, false);
+};
+$("run-pick").onfocus = loadRunPicker;
 
 // ---------------------------------------------------------------- stream
 function onMessage(event) {
   const m = JSON.parse(event.data);
   if (m.type === "samples") {
-    addSamples(m);
-    scheduleRedraw();
+    rigRun.onLiveBatch(m);
   } else if (m.type === "event") {
-    rig.events.push(m);
-    const li = document.createElement("li");
-    li.textContent = `${fmt(m.t_s, 3)} s  ${m.kind}: ${m.message}`;
-    $("events").prepend(li);
+    rigRun.onLiveEvent(m);
+    if (m.kind === "run_ended" || m.kind === "run_started") loadRunPicker();
   } else if (m.type === "model") {
-    if (m.warnings && (!live.curve || live.curve.file !== m.file)) {
-      m.warnings.forEach(w => { const li = document.createElement("li"); li.className = "warn"; li.textContent = "model: " + w; $("events").prepend(li); });
-    }
-    live.curve = m;
+    if (m.warnings) $("model-warnings").textContent = m.warnings.map(w => "model: " + w).join("\n");
   } else if (m.type === "mesh") {
     if (window.rigHaptics) window.rigHaptics.onMesh(m);
   } else if (m.type === "frame") {
@@ -134,7 +193,12 @@ function onMessage(event) {
 function connect() {
   const url = `${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws${token ? "?token=" + encodeURIComponent(token) : ""}`;
   const ws = new WebSocket(url);
-  ws.onopen = () => { $("conn").textContent = "live"; $("conn").className = "pill on"; };
+  ws.onopen = () => {
+    $("conn").textContent = "live"; $("conn").className = "pill on";
+    // Opened or reconnected: the whole run again from the archive, then the stream.
+    if (rigRun.view.following) rigRun.follow().catch(() => {});
+    loadRunPicker();
+  };
   ws.onclose = () => { $("conn").textContent = "offline"; $("conn").className = "pill off"; setTimeout(connect, 1000); };
   ws.onmessage = onMessage;
 }
@@ -153,13 +217,37 @@ async function refreshStatus() {
     $("r-velocity").textContent = fmt(s.velocity_mm_s, 3) + " mm/s";
     $("r-ready").textContent = (s.homed ? "homed" : "not homed") + " / " + (s.tared ? "tared" : "not tared");
     $("r-loop").textContent = `${fmt(s.loop.rate_hz, 0)} Hz, jitter p99 ${fmt(s.loop.jitter_p99_us, 0)} µs, overruns ${s.loop.overruns}`;
-    const i = s.interlocks;
-    $("interlocks").innerHTML = [["home limit", i.home_limit], ["end limit", i.end_limit], ["e-stop", i.estop_input],
-                                 ["DAQ link down", !i.link_ok]]
-      .map(([name, on]) => `<span class="${on ? "on" : ""}">${name}${on ? " ●" : ""}</span>`).join("") +
-      `<span class="${s.motor_enabled ? "motor" : ""}">motor ${s.motor_enabled ? "on" : "off"}</span>`;
+    const i = s.interlocks, stopped = s.state === "Fault" || s.state === "EStop";
+    // Red while the input is active, and while the latched fault names it (until Reset).
+    const named = text => stopped && s.fault.includes(text);
+    const chips = [["home limit", i.home_limit || named("home limit")], ["end limit", i.end_limit || named("end limit")],
+                   ["e-stop", i.estop_input || s.state === "EStop"], ["DAQ link down", !i.link_ok || named("DAQ link lost")]];
+    $("interlocks").innerHTML = chips.map(([name, on]) => `<span class="${on ? "tripped" : ""}">${name}${on ? " ●" : ""}</span>`).join("") +
+      `<span class="${s.motor_enabled ? "motor" : stopped ? "tripped" : ""}">motor ${s.motor_enabled ? "on" : "off"}</span>`;
+    rig.tripped = [...chips.filter(([, on]) => on).map(([name]) => name), ...(stopped && !s.motor_enabled ? ["motor off"] : [])];
+    showBanner(s);
     rig.motorEnabled = s.motor_enabled;
   } catch (e) { $("fault").textContent = String(e.message || e); }
+}
+
+// What stopped the rig and what the technician does next, in words (docs/faults.md).
+function nextAction(s) {
+  if (s.state === "EStop") return s.interlocks.estop_input ? "Release the e-stop button, then press Reset, then Home."
+                                                            : "Press Reset, then Home before the next cut.";
+  if (s.state === "Fault") {
+    if (!s.interlocks.link_ok || s.fault.includes("DAQ link")) return "Check the DAQ's cable and power; then press Reset, then Home.";
+    return "Remove the cause, then press Reset, then Home before the next cut.";
+  }
+  if (!s.homed && s.state === "Idle") return "Not homed: press Home before a cut.";
+  return "";
+}
+function showBanner(s) {
+  const stopped = s.state === "Fault" || s.state === "EStop";
+  const action = nextAction(s);
+  const text = stopped ? `${s.state === "EStop" ? "E-STOP" : "FAULT"}: ${s.fault}. ${action}` : action;
+  $("banner").textContent = text;
+  $("banner").className = "banner " + (stopped ? "alarm" : text ? "hint" : "hidden");
+  rig.banner = text;
 }
 
 async function command(name) {
@@ -219,9 +307,11 @@ function drawPhases(before, after) {
   if (phasePlot) phasePlot.destroy();
   phasePlot = new uPlot({
     width: Math.min(window.innerWidth - 80, 1000), height: 280, scales: {x: {time: false, range: [-0.5, phases.length - 0.5]}},
-    series: [{}, {label: "before [N]", fill: "#90a4ae", stroke: "#546e7a", paths: uPlot.paths.bars({size: [0.35], align: -1})},
+    legend: {live: false},
+    series: [{label: "phase"}, {label: "before [N]", fill: "#90a4ae", stroke: "#546e7a", paths: uPlot.paths.bars({size: [0.35], align: -1})},
              {label: "after [N]", fill: "#66bb6a", stroke: "#2e7d32", paths: uPlot.paths.bars({size: [0.35], align: 1})}],
-    axes: [{values: (u, vals) => vals.map(v => phases[v] || "")}, {label: "RMSE [N]"}],
+    axes: [{label: "phase of the cut", splits: () => xs, values: (u, vals) => vals.map(v => phases[v] || "")},
+           {label: "cross-validated RMSE [N]", values: rigTicks, size: 70}],
   }, data, $("plot-phases"));
 }
 

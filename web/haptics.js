@@ -59,12 +59,14 @@
     mesh.maxDepth = Math.max(mesh.maxDepth, ...m.z_mm);
     if (mesh.firstT === null) mesh.firstT = m.t_s;
     mesh.lastT = m.t_s;
+    if (window.rigCornea3d) window.rigCornea3d.onMesh(m);  // the 3D view (cornea3d.js)
     if (pending === null) requestAnimationFrame(() => { draw(pending); pending = null; });
     pending = m;
   }
 
   function showStatus(s) {
     window.rig.haptic = s;
+    if (window.rigCornea3d) window.rigCornea3d.showFidelity(s);
     const rows = [["state", s.state], ["device", s.device], ["source", s.source], ["error", s.error],
                   ["servo rate", s.rate_hz && fmt(s.rate_hz, 1) + " Hz"], ["ticks", s.ticks], ["overruns", s.overruns],
                   ["tick p99", s.tick_p99_us && fmt(s.tick_p99_us, 0) + " µs"],

@@ -90,7 +90,7 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   }
   try {
     rt::CommandKind kind{};
-    static const std::regex kRunPath(R"(^/api/runs/(\d+)(/csv|/samples)?$)");
+    static const std::regex kRunPath(R"(^/api/runs/(\d+)(/csv|/samples|/stream|/frames/\d{1,9})?$)");
     std::smatch m;
     if (get && path == "/api/status") return respond(make_response(request, http::status::ok, status_json(*context_)));
     if (get && path == "/metrics") return respond(make_response(request, http::status::ok, prometheus_metrics(*context_), "text/plain; version=0.0.4"));

@@ -8,6 +8,7 @@
 
 #include "rig/proto/messages.hpp"
 #include "run_csv.hpp"
+#include "run_replay.hpp"
 #include "sqlite_handle.hpp"
 
 namespace rig::api {
@@ -87,6 +88,7 @@ void ArchiveEndpoints::get_runs(const Request& request, Responder respond) {
 }
 
 void ArchiveEndpoints::get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond) {
+  if (what == "/stream" || what.rfind("/frames/", 0) == 0) return get_replay(request, run_id, what, std::move(respond));
   on_archive(request, std::move(respond), [request, run_id, what](archive::Archive& a) {
     const auto row = a.find_run(run_id);
     if (!row) return error_response(request, http::status::not_found, "no run " + std::to_string(run_id));
@@ -97,6 +99,29 @@ void ArchiveEndpoints::get_run(const Request& request, std::int64_t run_id, cons
     for (const auto& [k, v] : a.run_meta(run_id)) detail.meta[k] = v;
     for (const auto& e : a.run_events(run_id)) detail.events.push_back({e.t_s, e.kind, e.message});
     return make_response(request, http::status::ok, nlohmann::json(detail).dump());
+  });
+}
+
+void ArchiveEndpoints::get_replay(const Request& request, std::int64_t run_id, const std::string& what, Responder respond) {
+  ReplayQuery query;
+  try {
+    query = parse_replay_query(std::string(request.target()));
+  } catch (const std::invalid_argument& e) {
+    return respond(error_response(request, http::status::bad_request, e.what()));
+  }
+  auto model = context_->hub->model();  // drawn over the run as over the live stream
+  on_archive(request, std::move(respond), [request, run_id, what, query, model](archive::Archive& a) {
+    try {
+      if (what == "/stream") return make_response(request, http::status::ok, run_stream_json(a, run_id, query, model));
+      const FramePixels frame = read_archived_frame(a, run_id, std::stoll(what.substr(8)));
+      Response response = make_response(request, http::status::ok, frame.pixels, "application/octet-stream");
+      response.set("X-Frame-Width", std::to_string(frame.width));
+      response.set("X-Frame-Height", std::to_string(frame.height));
+      response.set("X-Frame-Sample", std::to_string(frame.sample_index));
+      return response;
+    } catch (const std::out_of_range& e) {
+      return error_response(request, http::status::not_found, e.what());
+    }
   });
 }
 

@@ -101,6 +101,15 @@ int MassSpringCornea::cross_section(double* x_mm, double* z_mm, int capacity) co
   return count;
 }
 
+int MassSpringCornea::positions(double* x_mm, double* y_mm, double* z_mm, int capacity) const noexcept {
+  const int count = vertex_count();
+  if (count > capacity) return 0;
+  std::copy(x_.begin(), x_.end(), x_mm);
+  std::copy(y_.begin(), y_.end(), y_mm);
+  std::copy(z_.begin(), z_.end(), z_mm);
+  return count;
+}
+
 double MassSpringCornea::depth_at_centre_mm() const noexcept {
   return z_[static_cast<std::size_t>(index(s_.n / 2, s_.n / 2))];
 }

@@ -37,6 +37,8 @@ class MassSpringCornea {
   int active_spring_count() const noexcept;
   // The row through the centre, across the cut: x [mm] and depth z [mm] (+ into the eye).
   int cross_section(double* x_mm, double* z_mm, int capacity) const noexcept;
+  // Every vertex [mm], row-major; returns the count, or 0 (nothing written) above capacity.
+  int positions(double* x_mm, double* y_mm, double* z_mm, int capacity) const noexcept;
   double depth_at_centre_mm() const noexcept;
 
  private:

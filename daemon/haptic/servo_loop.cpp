@@ -122,6 +122,7 @@ void ServoLoop::step_mesh(double tip_depth_mm, double force_N, double t_s) noexc
   scratch_.force_N = force_N;
   scratch_.punctured = punctured_;
   scratch_.point_count = mesh_.cross_section(scratch_.x_mm, scratch_.z_mm, MeshSnapshot::kMaxPoints);
+  scratch_.grid_count = mesh_.positions(scratch_.grid_x_mm, scratch_.grid_y_mm, scratch_.grid_z_mm, MeshSnapshot::kMaxGridVertices);
   mesh_out_.publish(scratch_);
 }
 

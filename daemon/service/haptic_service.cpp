@@ -106,6 +106,11 @@ void HapticService::publish_mesh(const haptic::MeshSnapshot& mesh) {
   frame.punctured = mesh.punctured;
   frame.x_mm.assign(mesh.x_mm, mesh.x_mm + mesh.point_count);
   frame.z_mm.assign(mesh.z_mm, mesh.z_mm + mesh.point_count);
+  if (mesh.grid_count > 0) {  // the whole mesh, for the page's 3D view
+    frame.grid_x_mm.emplace(mesh.grid_x_mm, mesh.grid_x_mm + mesh.grid_count);
+    frame.grid_y_mm.emplace(mesh.grid_y_mm, mesh.grid_y_mm + mesh.grid_count);
+    frame.grid_z_mm.emplace(mesh.grid_z_mm, mesh.grid_z_mm + mesh.grid_count);
+  }
   sink_.publish(std::make_shared<const std::string>(nlohmann::json(frame).dump()));
 }
 

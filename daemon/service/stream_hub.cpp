@@ -69,18 +69,21 @@ std::string StreamHub::model_curve_json(double iop_mmHg) const {
   return j.dump();
 }
 
-double StreamHub::predict(const rt::Sample& s, const model::ForceModel& m, double iop) {
-  const double x = s.position_mm - surface_mm_;
-  switch (s.phase) {
+double StreamHub::predict_at(const model::ForceModel& m, rt::CutPhase phase, double x, double iop, double& hold_x_mm) {
+  switch (phase) {
     case rt::CutPhase::kApproach:
     case rt::CutPhase::kInsert:
-      hold_x_mm_ = x;
+      hold_x_mm = x;
       return m.baseline(x, iop);
-    case rt::CutPhase::kHold: return m.baseline(hold_x_mm_, iop);
+    case rt::CutPhase::kHold: return m.baseline(hold_x_mm, iop);
     case rt::CutPhase::kRetract: return 0.0;  // the blade leaves its own cut
     case rt::CutPhase::kNone: break;
   }
   return std::numeric_limits<double>::quiet_NaN();
+}
+
+double StreamHub::predict(const rt::Sample& s, const model::ForceModel& m, double iop) {
+  return predict_at(m, s.phase, s.position_mm - surface_mm_, iop, hold_x_mm_);
 }
 
 void StreamHub::take_samples() {

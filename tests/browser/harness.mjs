@@ -3,6 +3,7 @@ import { spawn, execFileSync } from "node:child_process";
 import { mkdtempSync, mkdirSync, readFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { join } from "node:path";
+import net from "node:net";
 import { chromium } from "playwright-core";
 
 export function args() {
@@ -36,7 +37,7 @@ export async function startRig(bin, source, archive) {
     "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`]);
   const ready = await waitForLine(rigd, "ready, API on", 20000);
   const url = ready.slice(ready.indexOf("http://")).trim();
-  return {url, dir, archive, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};
+  return {url, dir, archive, simPort: +port, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};
 }
 
 export async function openPage(url) {
@@ -47,6 +48,7 @@ export async function openPage(url) {
   });
   const page = await browser.newPage({viewport: {width: 1400, height: 1500}});
   page.on("dialog", dialog => dialog.accept());  // the page asks before any motion
+  page.on("pageerror", e => console.error(`  page error: ${e.message}`));  // a script error fails loudly in the log
   await page.goto(url);
   return {browser, page};
 }
@@ -60,6 +62,18 @@ export async function until(what, predicate, timeoutMs) {
     await new Promise(r => setTimeout(r, 100));
   }
   throw new Error(`timed out waiting for: ${what}`);
+}
+
+// Writes one holding register of rig-sim's test panel (Modbus TCP, function 6, unit 1):
+// the fault injection of tests/integration/fault_matrix_test.cpp (proto sim_panel registers).
+export function simPanelWrite(port, register, value) {
+  return new Promise((resolve, reject) => {
+    const frame = Buffer.from([0, 1, 0, 0, 0, 6, 1, 6, register >> 8, register & 0xff, value >> 8, value & 0xff]);
+    const socket = net.connect(port, "127.0.0.1", () => socket.write(frame));
+    socket.setTimeout(2000, () => { socket.destroy(); reject(new Error("rig-sim panel: no answer")); });
+    socket.on("data", reply => { socket.end(); reply[7] === 6 ? resolve() : reject(new Error(`rig-sim panel refused: ${reply.toString("hex")}`)); });
+    socket.on("error", reject);
+  });
 }
 
 export function artifacts(dir) { mkdirSync(dir, {recursive: true}); return name => join(dir, name); }

@@ -20,7 +20,8 @@ dpkg-deb -x "$deb" "$root"
 dpkg-deb -e "$deb" "$root/DEBIAN"
 for f in usr/sbin/rigd usr/bin/rig usr/bin/rig-sim usr/lib/systemd/system/rigd.service usr/lib/sysusers.d/rigd.conf \
          usr/lib/udev/rules.d/60-rigd.rules etc/rigd/rigd.toml usr/share/rigd/web/index.html usr/share/rigd/web/app.js \
-         usr/share/rigd/web/vendor/uPlot.iife.min.js usr/share/rigd/web/lab_plots.js usr/share/rigd/models/paper-interpreted.toml \
+         usr/share/rigd/web/vendor/uPlot.iife.min.js usr/share/rigd/web/vendor/three.module.js usr/share/rigd/web/vendor/three.core.js \
+         usr/share/rigd/web/cornea3d.js usr/share/rigd/web/lab_plots.js usr/share/rigd/models/paper-interpreted.toml \
          usr/share/rigd/models/paper-printed-without-k.toml \
          usr/share/doc/rigd/technician-guide.md usr/share/doc/rigd/deployment.md; do
   [ -e "$root/$f" ] || fail "/$f missing from the package"

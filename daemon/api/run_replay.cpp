@@ -1,0 +1,159 @@
+#include "run_replay.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <charconv>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "run_types.hpp"
+#include "sqlite_handle.hpp"
+#include "stream_hub.hpp"
+
+namespace rig::api {
+namespace {
+
+std::int64_t query_integer(const std::string& query, const std::string& name,
+                           std::int64_t fallback) {
+  const std::string key = name + "=";
+  std::size_t at = 0;
+  while (at < query.size()) {
+    const std::size_t end = std::min(query.find('&', at), query.size());
+    if (query.compare(at, key.size(), key) == 0) {
+      const char* first = query.data() + at + key.size();
+      const char* last = query.data() + end;
+      std::int64_t value = 0;
+      const auto [ptr, ec] = std::from_chars(first, last, value);
+      if (ec != std::errc() || ptr != last || value < 0) {
+        throw std::invalid_argument("query field '" + name +
+                                    "' must be a non-negative integer, not '" +
+                                    std::string(first, last) + "'");
+      }
+      return value;
+    }
+    at = end + 1;
+  }
+  return fallback;
+}
+
+struct RunInfo {
+  double surface_mm = 0.0;
+  double iop_mmHg = 15.0;
+};
+
+RunInfo run_info(archive::Database& db, std::int64_t run_id) {
+  archive::Statement q = db.prepare("SELECT surface_mm, iop_mmHg FROM runs WHERE id = ?");
+  q.bind(1, run_id);
+  RunInfo info;
+  if (q.step()) {
+    info.surface_mm = q.real(0);
+    info.iop_mmHg = q.maybe_real(1).value_or(15.0);
+  }
+  return info;
+}
+
+// Samples from the cycle on, column-wise as in the live SampleBatch.
+void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id,
+                 const ReplayQuery& query, const std::shared_ptr<const model::ForceModel>& model) {
+  const RunInfo info = run_info(db, run_id);
+  archive::Statement q = db.prepare(
+      "SELECT idx, t_s, position_mm, force_N, iop_mmHg, phase FROM samples WHERE run_id = ? AND "
+      "idx >= ? ORDER BY idx LIMIT ?");
+  q.bind(1, run_id).bind(2, query.from_cycle).bind(3, query.limit + 1);
+  std::vector<std::int64_t> cycle;
+  std::vector<double> t, x, force, predicted, residual, iop;
+  std::vector<std::string> phase;
+  double hold_x_mm = 0.0;
+  bool more = false;
+  while (q.step()) {
+    if (static_cast<std::int64_t>(cycle.size()) == query.limit) {
+      more = true;
+      break;
+    }
+    const auto cut_phase = static_cast<rt::CutPhase>(q.integer(5));
+    const double x_mm = q.real(2) - info.surface_mm;
+    const double m =
+        model ? service::StreamHub::predict_at(*model, cut_phase, x_mm, info.iop_mmHg, hold_x_mm)
+              : std::numeric_limits<double>::quiet_NaN();
+    cycle.push_back(q.integer(0));
+    t.push_back(q.real(1));
+    x.push_back(x_mm);
+    force.push_back(q.real(3));
+    predicted.push_back(m);
+    residual.push_back(q.real(3) - m);
+    iop.push_back(q.maybe_real(4).value_or(std::numeric_limits<double>::quiet_NaN()));
+    phase.emplace_back(rt::to_string(cut_phase));
+  }
+  j["next_cycle"] = cycle.empty() ? query.from_cycle : cycle.back() + 1;
+  j["more"] = more;
+  j["cycle"] = cycle;
+  j["t_s"] = t;
+  j["x_mm"] = x;
+  j["force_N"] = force;
+  j["model_N"] = predicted;
+  j["residual_N"] = residual;
+  j["iop_mmHg"] = iop;
+  j["phase"] = phase;
+  j["surface_mm"] = info.surface_mm;
+  j["model_iop_mmHg"] = info.iop_mmHg;
+}
+
+}  // namespace
+
+ReplayQuery parse_replay_query(const std::string& target) {
+  const std::size_t q = target.find('?');
+  ReplayQuery query;
+  if (q == std::string::npos) return query;
+  const std::string text = target.substr(q + 1);
+  query.from_cycle = query_integer(text, "from", 0);
+  query.limit = query_integer(text, "limit", query.limit);
+  if (query.limit < 1 || query.limit > 1000000)
+    throw std::invalid_argument("query field 'limit' must be 1..1000000");
+  return query;
+}
+
+std::string run_stream_json(archive::Archive& archive, std::int64_t run_id,
+                            const ReplayQuery& query,
+                            const std::shared_ptr<const model::ForceModel>& model) {
+  const auto row = archive.find_run(run_id);
+  if (!row) throw std::out_of_range("no run " + std::to_string(run_id));
+  nlohmann::json j = {
+      {"type", "run_stream"},          {"run_id", run_id},
+      {"eye_id", row->eye_id},         {"outcome", row->outcome},
+      {"reason", row->reason},         {"source", row->source},
+      {"started_at", row->started_at}, {"model", model ? model->name : std::string()}};
+  archive::Database db(archive.path(),
+                       true);  // a reader of its own: the recorder writes meanwhile (WAL)
+  add_samples(j, db, run_id, query, model);
+  nlohmann::json events = nlohmann::json::array();
+  for (const auto& e : archive.run_events(run_id))
+    events.push_back({{"t_s", e.t_s}, {"kind", e.kind}, {"message", e.message}});
+  j["events"] = std::move(events);
+  nlohmann::json frames = nlohmann::json::array();
+  for (const auto& f : archive.run_frames(run_id)) {
+    if (f.sample_index >= 0)
+      frames.push_back({{"frame_no", f.frame_no}, {"sample_index", f.sample_index}});
+  }
+  j["frames"] = std::move(frames);
+  return j.dump();
+}
+
+FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id,
+                                std::int64_t frame_no) {
+  for (const auto& f : archive.run_frames(run_id)) {
+    if (f.frame_no != frame_no) continue;
+    FramePixels out{f.width, f.height, f.sample_index,
+                    std::string(static_cast<std::size_t>(f.bytes), '\0')};
+    std::ifstream in(f.file, std::ios::binary);
+    in.seekg(f.file_offset);
+    if (!in.read(out.pixels.data(), f.bytes))
+      throw std::runtime_error("frame file " + f.file + ": cannot read frame " +
+                               std::to_string(frame_no));
+    return out;
+  }
+  throw std::out_of_range("run " + std::to_string(run_id) + " has no frame " +
+                          std::to_string(frame_no));
+}
+
+}  // namespace rig::api
