@@ -14,6 +14,9 @@ struct InterlockVerdict {
 
 class Interlocks {
  public:
+  // Output writes refused in a row before the run faults: two, so the fault comes well
+  // before the DAQ's own watchdog (daq.watchdog_ms >= 5 cycles) and its tripped bit.
+  static constexpr int kMaxFailedWrites = 2;
   explicit Interlocks(const LoopSettings& settings) : s_(settings) {}
   InterlockVerdict check(const CycleInput& in, const RunStateMachine& machine,
                          double following_error_mm) noexcept;
@@ -21,6 +24,7 @@ class Interlocks {
  private:
   InterlockVerdict check_motion(const CycleInput& in, const RunStateMachine& machine,
                                 double following_error_mm) noexcept;
+  InterlockVerdict check_daq(const CycleInput& in) noexcept;
   bool force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept;
   bool iop_out_of_band(const CycleInput& in, const RunStateMachine& machine) noexcept;
 

@@ -64,6 +64,9 @@ class ModbusSimServer {
   int port_ = 0;
   double start_wall_s_ = 0.0;
   std::uint16_t last_new_eye_ = 0;
+  std::uint16_t last_restart_ = 0;  // kRestartDaq, kTripWatchdog: act on each new value
+  std::uint16_t last_trip_ = 0;
+  double last_refresh_wall_s_ = 0.0;
 };
 
 }  // namespace rig::sim

@@ -205,6 +205,7 @@ IoStatus UsbDaq::read(DigitalInputs& inputs) noexcept {
   inputs.end_limit = (inputs_.digital & 2U) != 0;
   inputs.estop = (inputs_.digital & 4U) != 0;
   inputs.drive_fault = (inputs_.digital & 8U) != 0;
+  inputs.daq_watchdog_tripped = watchdog_tripped_;  // flags bit 0 of the same reply
   return IoStatus::kOk;
 }
 
