@@ -144,6 +144,7 @@ void ControlLoop::drain_commands(const CycleInput& in) noexcept {
   for (int i = 0; i < 4 && ch_->commands.pop(command); ++i) {  // bounded work per cycle
     last_command_result_ = machine_.handle(command, in);
     last_command_id_ = command.id;
+    recent_answers_[answer_count_++ % recent_answers_.size()] = {command.id, last_command_result_};
   }
 }
 
@@ -259,6 +260,8 @@ void ControlLoop::publish_status(const CycleInput& in, const drivers::DriveComma
   st.tare_offset_N = machine_.tare_offset_N();
   st.last_command_id = last_command_id_;
   st.last_command_result = last_command_result_;
+  st.recent_answers = recent_answers_;
+  st.recent_answer_count = answer_count_;
   ch_->status.publish(st);
 }
 

@@ -16,6 +16,7 @@
 #include "rig/drivers/digital_io.hpp"
 #include "rig/drivers/loop_clock.hpp"
 #include "run_state_machine.hpp"
+#include "status_snapshot.hpp"
 #include "velocity_controller.hpp"
 
 namespace rig::rt {
@@ -82,6 +83,8 @@ class ControlLoop final : public EventSink {
   std::size_t overrun_count_ = 0;
   std::uint64_t last_command_id_ = 0;
   CommandResult last_command_result_ = CommandResult::kPending;
+  std::array<StatusSnapshot::CommandAnswer, StatusSnapshot::kRecentAnswers> recent_answers_{};
+  std::uint64_t answer_count_ = 0;
 };
 
 }  // namespace rig::rt
