@@ -168,21 +168,24 @@ drivers::DriveCommand ControlLoop::control(const CycleInput& in, const MotionReq
   return command;
 }
 
-bool ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
+drivers::IoStatus ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
   drivers::DigitalOutputs outputs;
   outputs.motor_enable = command.motor_enable;
   const drivers::IoStatus digital = hw_.digital->write(outputs);
   const drivers::IoStatus drive = hw_.drive->write(command);
-  return digital == drivers::IoStatus::kOk && drive == drivers::IoStatus::kOk;
+  return digital != drivers::IoStatus::kOk ? digital : drive;
 }
 
-// Only a write refused in a cycle whose read succeeded counts: after a failed read the driver
-// does not write at all, and the link judgement (judge_link) owns that case.
-void ControlLoop::note_write(bool written, bool read_ok) noexcept {
-  if (written) {
+// Only a write that failed in a cycle whose read succeeded counts: after a failed read the
+// driver does not write at all, and the link judgement (judge_link) owns that case. An
+// explicit refusal is certain at once; a lost or garbled answer (a late reply under load)
+// needs Interlocks::kMaxFailedWrites in a row.
+void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
+  if (written == drivers::IoStatus::kOk) {
     failed_writes_ = 0;
   } else if (read_ok) {
-    ++failed_writes_;
+    failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, Interlocks::kMaxFailedWrites)
+                                                            : failed_writes_ + 1;
     ch_->counters.write_failures.fetch_add(1, std::memory_order_relaxed);
   }
 }

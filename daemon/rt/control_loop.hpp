@@ -49,8 +49,8 @@ class ControlLoop final : public EventSink {
   void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void drain_commands(const CycleInput& in) noexcept;
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
-  bool write_outputs(const drivers::DriveCommand& command) noexcept;  // false: a write failed
-  void note_write(bool written, bool read_ok) noexcept;
+  drivers::IoStatus write_outputs(const drivers::DriveCommand& command) noexcept;  // the first failure
+  void note_write(drivers::IoStatus written, bool read_ok) noexcept;
   void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept;
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
   bool note_overrun(bool overran) noexcept;

@@ -14,9 +14,10 @@ struct InterlockVerdict {
 
 class Interlocks {
  public:
-  // Output writes refused in a row before the run faults: two, so the fault comes well
-  // before the DAQ's own watchdog (daq.watchdog_ms >= 5 cycles) and its tripped bit.
-  static constexpr int kMaxFailedWrites = 2;
+  // Output writes failed in a row (reads answered) before the run faults. An explicit
+  // refusal counts as all of them: the fault comes in the next cycle, before the DAQ's own
+  // watchdog (daq.watchdog_ms = 5) trips. Lost or garbled answers are allowed two in a row.
+  static constexpr int kMaxFailedWrites = 3;
   explicit Interlocks(const LoopSettings& settings) : s_(settings) {}
   InterlockVerdict check(const CycleInput& in, const RunStateMachine& machine,
                          double following_error_mm) noexcept;
