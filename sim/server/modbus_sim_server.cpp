@@ -116,18 +116,16 @@ void ModbusSimServer::apply_writes() {
   if (!std::isfinite(faults.position_offset_mm)) faults.position_offset_mm = 0.0;
   faults.home_switch_broken = h[reg::sim_panel::kHomeSwitchBroken] != 0;
   faults.writes_rejected = h[reg::sim_panel::kRejectWrites] != 0;
-  if (h[reg::sim_panel::kNewEye] != last_new_eye_) {
-    last_new_eye_ = h[reg::sim_panel::kNewEye];
-    if (last_new_eye_ != 0) physics_->mount_new_eye(2.0);
-  }
-  if (h[reg::sim_panel::kRestartDaq] != last_restart_) {
-    last_restart_ = h[reg::sim_panel::kRestartDaq];
-    if (last_restart_ != 0) physics_->restart_daq();
-  }
-  if (h[reg::sim_panel::kTripWatchdog] != last_trip_) {
-    last_trip_ = h[reg::sim_panel::kTripWatchdog];
-    if (last_trip_ != 0) physics_->trip_watchdog();
-  }
+  if (new_nonzero(h[reg::sim_panel::kNewEye], last_new_eye_)) physics_->mount_new_eye(2.0);
+  if (new_nonzero(h[reg::sim_panel::kRestartDaq], last_restart_)) physics_->restart_daq();
+  if (new_nonzero(h[reg::sim_panel::kTripWatchdog], last_trip_)) physics_->trip_watchdog();
+}
+
+// One-shot panel registers act once per new non-zero value written.
+bool ModbusSimServer::new_nonzero(std::uint16_t value, std::uint16_t& last) {
+  const bool act = value != last && value != 0;
+  last = value;
+  return act;
 }
 
 void ModbusSimServer::drop_all(std::vector<int>& clients) {

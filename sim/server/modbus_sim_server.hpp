@@ -48,6 +48,7 @@ class ModbusSimServer {
   double wall_time_s() const;
   void refresh_registers();  // physics -> input registers (mutex held)
   void apply_writes();       // holding registers -> physics and faults (mutex held)
+  static bool new_nonzero(std::uint16_t value, std::uint16_t& last);
   enum class Served { kOk, kPeerGone, kLinkCut };
   Served serve_request(_modbus* ctx);  // one request on a TCP client or the RTU line
   void serve_client(int fd, std::vector<int>& clients);
