@@ -133,7 +133,7 @@ class CommandWait : public std::enable_shared_from_this<CommandWait> {
 
   void check() {
     const rt::StatusSnapshot st = context_->channels->status.read();
-    if (st.last_command_id == command_.id) return answer(st);
+    if (const auto result = st.answer_to(command_.id)) return answer(st, *result);
     if (std::chrono::steady_clock::now() > deadline_) {
       return respond_(error_response(request_, http::status::gateway_timeout, "the RT loop did not answer the command"));
     }
@@ -144,12 +144,12 @@ class CommandWait : public std::enable_shared_from_this<CommandWait> {
   }
 
  private:
-  void answer(const rt::StatusSnapshot& st) {
-    if (on_answer_) on_answer_(st.last_command_result);
+  void answer(const rt::StatusSnapshot& st, rt::CommandResult result) {
+    if (on_answer_) on_answer_(result);
     proto::CommandReply reply;
-    reply.ok = st.last_command_result == rt::CommandResult::kAccepted;
+    reply.ok = result == rt::CommandResult::kAccepted;
     reply.command = std::string(rt::to_string(command_.kind));
-    reply.result = std::string(rt::to_string(st.last_command_result));
+    reply.result = std::string(rt::to_string(result));
     reply.state = std::string(rt::to_string(st.state));
     if (command_.params.run_id != 0) reply.run_id = command_.params.run_id;
     respond_(make_response(request_, reply.ok ? http::status::ok : http::status::conflict, nlohmann::json(reply).dump()));

@@ -5,35 +5,10 @@
 #include <ctime>
 #include <sstream>
 
+#include "schema_migrations.hpp"
+
 namespace rig::archive {
 namespace {
-
-constexpr const char* kSchema = R"sql(
-CREATE TABLE IF NOT EXISTS runs (
-  id INTEGER PRIMARY KEY AUTOINCREMENT,
-  eye_id TEXT NOT NULL, iop_mmHg REAL, velocity_mm_s REAL, depth_mm REAL, hold_s REAL,
-  post_mortem_h REAL, operator TEXT, notes TEXT, config_hash TEXT, software_version TEXT,
-  surface_mm REAL NOT NULL DEFAULT 0, rate_hz REAL,
-  created_at TEXT NOT NULL, started_at TEXT, ended_at TEXT,
-  outcome TEXT NOT NULL, reason TEXT, source TEXT NOT NULL);
-CREATE TABLE IF NOT EXISTS run_meta (
-  run_id INTEGER NOT NULL REFERENCES runs(id), seq INTEGER NOT NULL, key TEXT NOT NULL,
-  value TEXT NOT NULL, PRIMARY KEY (run_id, seq));
-CREATE TABLE IF NOT EXISTS samples (
-  run_id INTEGER NOT NULL, idx INTEGER NOT NULL, t_s REAL NOT NULL, position_mm REAL NOT NULL,
-  force_N REAL NOT NULL, iop_mmHg REAL, velocity_mm_s REAL, motor_V REAL, pump REAL,
-  state INTEGER, phase INTEGER, io_ok INTEGER, PRIMARY KEY (run_id, idx)) WITHOUT ROWID;
-CREATE TABLE IF NOT EXISTS channels (
-  run_id INTEGER NOT NULL, name TEXT NOT NULL, data BLOB NOT NULL, PRIMARY KEY (run_id, name));
-CREATE TABLE IF NOT EXISTS events (
-  run_id INTEGER NOT NULL, t_s REAL NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
-CREATE INDEX IF NOT EXISTS events_by_run ON events(run_id);
-CREATE TABLE IF NOT EXISTS frames (
-  run_id INTEGER NOT NULL, frame_no INTEGER NOT NULL, sample_index INTEGER NOT NULL,
-  camera_ts_ns INTEGER NOT NULL, host_ts_ns INTEGER NOT NULL, file TEXT NOT NULL,
-  file_offset INTEGER NOT NULL, bytes INTEGER NOT NULL, width INTEGER NOT NULL, height INTEGER NOT NULL,
-  PRIMARY KEY (run_id, frame_no)) WITHOUT ROWID;
-)sql";
 
 std::string format_number(double value) {
   std::ostringstream out;
@@ -57,13 +32,15 @@ std::string utc_now_iso8601() {
 }
 
 Archive::Archive(const std::string& path, bool read_only) : db_(path, read_only) {
-  if (!read_only) {
-    db_.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
-    create_schema();
+  if (read_only) {
+    SchemaMigrations::check_readable(db_);
+    return;
   }
+  db_.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+  create_schema();
 }
 
-void Archive::create_schema() { db_.exec(kSchema); }
+void Archive::create_schema() { SchemaMigrations::bring_up_to_date(db_); }
 
 std::int64_t Archive::create_run(const NewRun& run) {
   Statement q = db_.prepare(

@@ -95,6 +95,9 @@ class Archive {
 
  private:
   void create_schema();
+  std::int64_t import_run_row(const model::RunData& run);             // archive_runs.cpp
+  void import_samples(std::int64_t id, const model::RunData& run);
+  void remove_run_rows(std::int64_t id) noexcept;
   RunRow read_row(Statement& q);
 
   Database db_;

@@ -1,5 +1,7 @@
 // Archive <-> run-CSV data: loading a run for export and the model lab, importing files.
 #include <algorithm>
+#include <chrono>
+#include <thread>
 
 #include "archive.hpp"
 
@@ -45,16 +47,36 @@ model::RunData Archive::load_run(std::int64_t run_id) {
   return run;
 }
 
+// An import can be millions of rows: it writes them in transactions of at most
+// kImportChunk and pauses after each, so rigd's recorder (which asks for the lock every 1 ms,
+// Database::retry_while_busy) is never held off longer than one chunk and a running cut never
+// faults on a busy archive. The run is 'importing' until its last row is in; a failed import
+// removes it again.
 std::int64_t Archive::import_run(const model::RunData& run) {
+  const std::int64_t id = import_run_row(run);
+  try {
+    import_samples(id, run);
+    begin();
+    Statement channel = db_.prepare("INSERT INTO channels (run_id, name, data) VALUES (?,?,?)");
+    for (const auto& c : run.channels) channel.bind(1, id).bind(2, c.name).bind(3, std::span<const double>(c.values)).run();
+    db_.prepare("UPDATE runs SET outcome='imported' WHERE id=?").bind(1, id).run();
+    commit();
+    return id;
+  } catch (...) {
+    if (in_transaction_) rollback();
+    remove_run_rows(id);
+    throw;
+  }
+}
+
+std::int64_t Archive::import_run_row(const model::RunData& run) {
   begin();
   try {
-    NewRun row;
-    row.eye_id = run.text("eye_id").value_or(run.source);
     Statement q = db_.prepare(
         "INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, operator, notes,"
-        " surface_mm, created_at, started_at, ended_at, outcome, source) VALUES (?,?,?,?,?,?,?,?,0,?,?,?,'imported',?)");
+        " surface_mm, created_at, started_at, ended_at, outcome, source) VALUES (?,?,?,?,?,?,?,?,0,?,?,?,'importing',?)");
     const std::string now = utc_now_iso8601();
-    q.bind(1, row.eye_id).bind(2, run.number("iop_mmHg")).bind(3, run.number("velocity_mm_s"));
+    q.bind(1, run.text("eye_id").value_or(run.source)).bind(2, run.number("iop_mmHg")).bind(3, run.number("velocity_mm_s"));
     q.bind(4, run.number("depth_mm")).bind(5, run.number("hold_s")).bind(6, run.number("post_mortem_h"));
     q.bind(7, run.text("operator").value_or("")).bind(8, run.text("notes").value_or(""));
     q.bind(9, now).bind(10, run.text("started_at").value_or(now)).bind(11, now).bind(12, run.source);
@@ -69,18 +91,42 @@ std::int64_t Archive::import_run(const model::RunData& run) {
       meta.bind(1, id).bind(2, seq++).bind(3, key).bind(4, value).run();
     }
     if (const auto original = run.text("run_id")) meta.bind(1, id).bind(2, seq++).bind(3, std::string("original_run_id")).bind(4, *original).run();
-    Statement sample = db_.prepare("INSERT INTO samples (run_id, idx, t_s, position_mm, force_N) VALUES (?,?,?,?,?)");
-    for (std::size_t i = 0; i < run.size(); ++i) {
-      sample.bind(1, id).bind(2, static_cast<std::int64_t>(i)).bind(3, run.t_s[i]).bind(4, run.x_mm[i]).bind(5, run.force_N[i]).run();
-    }
-    Statement channel = db_.prepare("INSERT INTO channels (run_id, name, data) VALUES (?,?,?)");
-    for (const auto& c : run.channels) channel.bind(1, id).bind(2, c.name).bind(3, std::span<const double>(c.values)).run();
     commit();
     return id;
   } catch (...) {
-    db_.exec("ROLLBACK");
-    in_transaction_ = false;
+    rollback();
     throw;
+  }
+}
+
+void Archive::import_samples(std::int64_t id, const model::RunData& run) {
+  using Clock = std::chrono::steady_clock;
+  constexpr auto kImportChunk = std::chrono::milliseconds(20);  // longest hold of the write lock
+  constexpr auto kPause = std::chrono::milliseconds(3);         // waiting writers get in here
+  Statement sample = db_.prepare("INSERT INTO samples (run_id, idx, t_s, position_mm, force_N) VALUES (?,?,?,?,?)");
+  std::size_t i = 0;
+  while (i < run.size()) {
+    begin();
+    const auto chunk_start = Clock::now();
+    do {
+      sample.bind(1, id).bind(2, static_cast<std::int64_t>(i)).bind(3, run.t_s[i]).bind(4, run.x_mm[i]).bind(5, run.force_N[i]).run();
+      ++i;
+    } while (i < run.size() && (i % 256 != 0 || Clock::now() - chunk_start < kImportChunk));
+    commit();
+    if (i < run.size()) std::this_thread::sleep_for(kPause);
+  }
+}
+
+void Archive::remove_run_rows(std::int64_t id) noexcept {
+  try {
+    begin();
+    for (const char* table : {"samples", "channels", "run_meta", "events", "frames"}) {
+      db_.prepare(std::string("DELETE FROM ") + table + " WHERE run_id=?").bind(1, id).run();
+    }
+    db_.prepare("DELETE FROM runs WHERE id=?").bind(1, id).run();
+    commit();
+  } catch (const std::exception&) {  // the import's own error is the one to report
+    if (in_transaction_) rollback();
   }
 }
 

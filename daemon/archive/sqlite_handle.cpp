@@ -1,5 +1,8 @@
 #include "sqlite_handle.hpp"
 
+#include <chrono>
+#include <thread>
+
 namespace rig::archive {
 namespace {
 
@@ -15,7 +18,18 @@ Database::Database(const std::string& path, bool read_only) : path_(path) {
   const int rc = sqlite3_open_v2(path.c_str(), &raw, flags | SQLITE_OPEN_NOMUTEX, nullptr);
   db_.reset(raw);
   if (rc != SQLITE_OK) fail(raw, "cannot open " + path);
-  sqlite3_busy_timeout(raw, 5000);  // another connection's write transaction is short
+  sqlite3_busy_handler(raw, &Database::retry_while_busy, nullptr);
+}
+
+// Another connection's write transaction is short (the recorder's flush, one chunk of an
+// import). Ask again every millisecond, for up to 5 s: SQLite's own busy timeout backs off to
+// 100 ms between tries and loses the race for the lock against a writer that commits and
+// begins again at once; a 1 ms poll gets in at the importer's next pause (import_run).
+int Database::retry_while_busy(void* /*unused*/, int tries_so_far) noexcept {
+  constexpr int kMaxTries = 5000;  // x >= 1 ms
+  if (tries_so_far >= kMaxTries) return 0;
+  std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return 1;
 }
 
 void Database::exec(const std::string& sql) {

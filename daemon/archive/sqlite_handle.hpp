@@ -58,6 +58,8 @@ class Database {
   const std::string& path() const { return path_; }
 
  private:
+  static int retry_while_busy(void* unused, int tries_so_far) noexcept;
+
   std::unique_ptr<sqlite3, SqliteCloser> db_;
   std::string path_;
 };

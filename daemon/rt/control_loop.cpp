@@ -115,6 +115,9 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t 
   const drivers::IoStatus digital = hw_.digital->read(inputs);
   in.io_ok = analog == drivers::IoStatus::kOk && digital == drivers::IoStatus::kOk;
   if (in.io_ok) {
+    // A counter that goes backwards is a DAQ that started again (u32 wrap-around is a step forwards).
+    in.daq_restarted = have_frame_ && static_cast<std::int32_t>(frame.sequence - last_frame_.sequence) < 0;
+    have_frame_ = true;
     last_frame_ = frame;
     last_inputs_ = inputs;
   }
@@ -132,6 +135,7 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t 
   last_position_mm_ = in.position_mm;
   in.velocity_mm_s = velocity_mm_s_;
   in.overrun_storm = overrun_storm_;
+  in.failed_writes = failed_writes_;
   in.service_fault = ch_->service_fault.load(std::memory_order_relaxed);
 }
 
@@ -140,6 +144,7 @@ void ControlLoop::drain_commands(const CycleInput& in) noexcept {
   for (int i = 0; i < 4 && ch_->commands.pop(command); ++i) {  // bounded work per cycle
     last_command_result_ = machine_.handle(command, in);
     last_command_id_ = command.id;
+    recent_answers_[answer_count_++ % recent_answers_.size()] = {command.id, last_command_result_};
   }
 }
 
@@ -163,11 +168,26 @@ drivers::DriveCommand ControlLoop::control(const CycleInput& in, const MotionReq
   return command;
 }
 
-void ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
+drivers::IoStatus ControlLoop::write_outputs(const drivers::DriveCommand& command) noexcept {
   drivers::DigitalOutputs outputs;
   outputs.motor_enable = command.motor_enable;
-  hw_.digital->write(outputs);
-  hw_.drive->write(command);  // a failed write is seen as a miss on the next read
+  const drivers::IoStatus digital = hw_.digital->write(outputs);
+  const drivers::IoStatus drive = hw_.drive->write(command);
+  return digital != drivers::IoStatus::kOk ? digital : drive;
+}
+
+// Only a write that failed in a cycle whose read succeeded counts: after a failed read the
+// driver does not write at all, and the link judgement (judge_link) owns that case. An
+// explicit refusal is certain at once; a lost or garbled answer (a late reply under load)
+// needs Interlocks::kMaxFailedWrites in a row.
+void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
+  if (written == drivers::IoStatus::kOk) {
+    failed_writes_ = 0;
+  } else if (read_ok) {
+    failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, Interlocks::kMaxFailedWrites)
+                                                            : failed_writes_ + 1;
+    ch_->counters.write_failures.fetch_add(1, std::memory_order_relaxed);
+  }
 }
 
 void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
@@ -179,11 +199,11 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   constexpr double kAtRest_mm_s = 0.05;  // a move has ended when the carriage is also still
   const MotionRequest motion = machine_.step(in, arrived_ && std::abs(in.velocity_mm_s) < kAtRest_mm_s);
   drivers::DriveCommand command = control(in, motion);
-  write_outputs(command);
+  note_write(write_outputs(command), in.io_ok);
   publish(in, command, static_cast<float>(latency_ns) * 1e-3F);
   if (machine_.state() == RunState::kFault && command.motor_enable) {
     command = drivers::DriveCommand{};  // publish() faulted the run: stop now, not next cycle
-    write_outputs(command);
+    note_write(write_outputs(command), in.io_ok);
   }
   publish_status(in, command);
   ++cycle_;
@@ -243,6 +263,8 @@ void ControlLoop::publish_status(const CycleInput& in, const drivers::DriveComma
   st.tare_offset_N = machine_.tare_offset_N();
   st.last_command_id = last_command_id_;
   st.last_command_result = last_command_result_;
+  st.recent_answers = recent_answers_;
+  st.recent_answer_count = answer_count_;
   ch_->status.publish(st);
 }
 

@@ -16,6 +16,7 @@
 #include "rig/drivers/digital_io.hpp"
 #include "rig/drivers/loop_clock.hpp"
 #include "run_state_machine.hpp"
+#include "status_snapshot.hpp"
 #include "velocity_controller.hpp"
 
 namespace rig::rt {
@@ -48,7 +49,8 @@ class ControlLoop final : public EventSink {
   void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void drain_commands(const CycleInput& in) noexcept;
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
-  void write_outputs(const drivers::DriveCommand& command) noexcept;
+  drivers::IoStatus write_outputs(const drivers::DriveCommand& command) noexcept;  // the first failure
+  void note_write(drivers::IoStatus written, bool read_ok) noexcept;
   void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept;
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
   bool note_overrun(bool overran) noexcept;
@@ -69,6 +71,8 @@ class ControlLoop final : public EventSink {
   bool arrived_ = false;
   bool overrun_storm_ = false;
   int consecutive_misses_ = 0;
+  int failed_writes_ = 0;   // output writes in a row refused in cycles whose read succeeded
+  bool have_frame_ = false; // a valid frame was read (its sequence is the reference)
   std::int64_t unanswered_ns_ = 0;
   std::int64_t last_valid_reply_ns_ = 0;  // on-time cycles without a valid reply since the last one [ns]
   double last_position_mm_ = 0.0;
@@ -79,6 +83,8 @@ class ControlLoop final : public EventSink {
   std::size_t overrun_count_ = 0;
   std::uint64_t last_command_id_ = 0;
   CommandResult last_command_result_ = CommandResult::kPending;
+  std::array<StatusSnapshot::CommandAnswer, StatusSnapshot::kRecentAnswers> recent_answers_{};
+  std::uint64_t answer_count_ = 0;
 };
 
 }  // namespace rig::rt

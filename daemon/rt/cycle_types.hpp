@@ -21,6 +21,8 @@ struct CycleInput {
   double velocity_mm_s = 0.0;
   drivers::DigitalInputs inputs{};
   bool overrun_storm = false;
+  int failed_writes = 0;        // output writes in a row the DAQ refused while it answered reads
+  bool daq_restarted = false;   // the DAQ's conversion counter went backwards this cycle (reboot)
   FaultCode service_fault = FaultCode::kNone;  // raised by a non-RT service (recorder, camera)
 };
 

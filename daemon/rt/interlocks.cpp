@@ -11,7 +11,19 @@ InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& 
   if (in.inputs.estop) return {FaultCode::kEstopInput, 1.0};
   if (state == RunState::kFault || !is_motion_state(state)) return {};  // at rest: reported, not faulted
   if (in.link_lost) return {FaultCode::kLinkLost, in.unanswered_ms};
+  const InterlockVerdict daq = check_daq(in);
+  if (daq.code != FaultCode::kNone) return daq;
   return check_motion(in, machine, following_error_mm);
+}
+
+// Control over the DAQ's outputs is lost although it answers: it refuses rigd's writes, its
+// own watchdog has switched the outputs off, or it rebooted (outputs reset, rigd's next
+// write would start the motor again without anyone deciding so).
+InterlockVerdict Interlocks::check_daq(const CycleInput& in) noexcept {
+  if (in.daq_restarted) return {FaultCode::kDaqRestarted, 0.0};
+  if (in.failed_writes >= kMaxFailedWrites) return {FaultCode::kDaqWriteFailed, static_cast<double>(in.failed_writes)};
+  if (in.io_ok && in.inputs.daq_watchdog_tripped) return {FaultCode::kDaqWatchdogTripped, 1.0};
+  return {};
 }
 
 InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMachine& machine,
@@ -26,11 +38,14 @@ InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMa
   }
   if (in.inputs.end_limit) return {FaultCode::kEndLimit, in.position_mm};
   if (in.inputs.home_limit && state != RunState::kHoming) return {FaultCode::kHomeLimit, in.position_mm};
-  if (machine.homed() && state != RunState::kHoming &&
+  const bool searching_home = state == RunState::kHoming && !machine.homed();
+  if (machine.homed() && !searching_home &&
       (in.position_mm < s_.motion.soft_min_mm || in.position_mm > s_.motion.soft_max_mm)) {
     return {FaultCode::kSoftLimit, in.position_mm};
   }
   if (state != RunState::kArmed && std::abs(following_error_mm) > s_.safety.max_following_error_mm) {
+    // Searching home, a carriage that stops is at a hard stop: the home switch never closed.
+    if (searching_home) return {FaultCode::kHomingFailed, std::abs(in.raw_position_mm - machine.homing_start_mm())};
     return {FaultCode::kFollowingError, following_error_mm};
   }
   if (force_channel_stuck(in, machine)) return {FaultCode::kStuckForce, in.force_N};

@@ -14,6 +14,10 @@ struct InterlockVerdict {
 
 class Interlocks {
  public:
+  // Output writes failed in a row (reads answered) before the run faults. An explicit
+  // refusal counts as all of them: the fault comes in the next cycle, before the DAQ's own
+  // watchdog (daq.watchdog_ms = 5) trips. Lost or garbled answers are allowed two in a row.
+  static constexpr int kMaxFailedWrites = 3;
   explicit Interlocks(const LoopSettings& settings) : s_(settings) {}
   InterlockVerdict check(const CycleInput& in, const RunStateMachine& machine,
                          double following_error_mm) noexcept;
@@ -21,6 +25,7 @@ class Interlocks {
  private:
   InterlockVerdict check_motion(const CycleInput& in, const RunStateMachine& machine,
                                 double following_error_mm) noexcept;
+  InterlockVerdict check_daq(const CycleInput& in) noexcept;
   bool force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept;
   bool iop_out_of_band(const CycleInput& in, const RunStateMachine& machine) noexcept;
 

@@ -33,6 +33,7 @@ struct LoopCounters {
   std::atomic<std::uint64_t> overruns{0};        // cycles that ended past the next deadline
   std::atomic<std::uint64_t> missed_cycles{0};   // deadlines skipped after overruns
   std::atomic<std::uint64_t> io_misses{0};       // failed DAQ reads
+  std::atomic<std::uint64_t> write_failures{0};  // output writes refused while reads succeeded
   std::atomic<std::uint64_t> late_wakes{0};      // cycles the loop began > half a period late
   std::atomic<std::uint64_t> late_wake_misses{0};  // failed reads in those: rigd's lateness, not the link's
   std::atomic<std::uint64_t> recorder_drops{0};  // must stay 0: a full ring faults the run

@@ -30,6 +30,7 @@ class RunStateMachine {
   double fault_value() const noexcept { return fault_value_; }
   double tare_offset_N() const noexcept { return tare_offset_N_; }
   double home_offset_mm() const noexcept { return home_offset_mm_; }
+  double homing_start_mm() const noexcept { return homing_start_mm_; }  // raw position [mm]
   std::int64_t recording_run_id() const noexcept;
   const RunParams& params() const noexcept { return params_; }
   const IopRegulator& iop() const noexcept { return iop_; }

@@ -19,7 +19,8 @@ std::string_view to_string(FaultCode fault) noexcept {
       "force limit exceeded", "soft travel limit", "end limit switch", "home limit switch",
       "loop overrun storm", "motor drive fault", "following error", "force sensor stuck",
       "IOP did not settle", "IOP out of range", "homing failed", "recorder overflow",
-      "archive write failed", "camera lost"};
+      "archive write failed", "camera lost", "DAQ write failed", "DAQ watchdog tripped",
+      "DAQ restarted"};
   return kNames[static_cast<int>(fault)];
 }
 

@@ -32,6 +32,9 @@ enum class FaultCode : std::uint8_t {
   kRecorderOverflow, // archive could not keep up: stop rather than lose data
   kArchiveWriteFailed, // the recorder cannot write the archive (disk full, I/O error)
   kCameraLost,       // no camera frame for camera.lost_after_ms while recording
+  kDaqWriteFailed,   // the DAQ refused or lost rigd's output writes although it answers reads
+  kDaqWatchdogTripped, // the DAQ's own watchdog forced the outputs off (rigd was silent too long)
+  kDaqRestarted,     // the DAQ's conversion counter went backwards: it rebooted, outputs reset
 };
 
 // Answer of the RT loop to a command (the API waits for it).

@@ -18,7 +18,12 @@ std::string describe_fault(rt::FaultCode code, double value) {
     case rt::FaultCode::kLinkLost: std::snprintf(detail, sizeof detail, ": no valid reply for %.0f ms", value); break;
     case rt::FaultCode::kIopNotSettled:
     case rt::FaultCode::kIopOutOfRange: std::snprintf(detail, sizeof detail, ": %.2f mmHg", value); break;
-    case rt::FaultCode::kHomingFailed: std::snprintf(detail, sizeof detail, " after %.1f mm", value); break;
+    case rt::FaultCode::kHomingFailed:
+      std::snprintf(detail, sizeof detail, ": no home switch within %.1f mm of travel", value);
+      break;
+    case rt::FaultCode::kDaqWriteFailed: std::snprintf(detail, sizeof detail, ": outputs refused or lost (%.0f)", value); break;
+    case rt::FaultCode::kDaqWatchdogTripped: std::snprintf(detail, sizeof detail, ": outputs were forced off"); break;
+    case rt::FaultCode::kDaqRestarted: std::snprintf(detail, sizeof detail, ": conversion counter restarted, outputs reset"); break;
     default: break;
   }
   return std::string(rt::to_string(code)) + detail;

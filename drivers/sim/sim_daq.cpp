@@ -21,6 +21,7 @@ IoStatus SimDaq::write(const DigitalOutputs& outputs) noexcept {
 
 IoStatus SimDaq::write(const DriveCommand& command) noexcept {
   if (injected_ != IoStatus::kOk) return injected_;  // the command never reaches the rig
+  if (physics_->faults().writes_rejected) return IoStatus::kRefused;
   physics_->write_outputs(command, staged_);
   return IoStatus::kOk;
 }

@@ -43,7 +43,7 @@ rt::CommandResult SimulatedRig::command(rt::CommandKind kind, const rt::RunParam
   for (int i = 0; i < 100; ++i) {
     loop_->run_for(loop_->period_ns());
     const rt::StatusSnapshot st = status();
-    if (st.last_command_id == command.id) return st.last_command_result;
+    if (const auto result = st.answer_to(command.id)) return *result;
   }
   throw std::runtime_error("loop did not answer command " + std::string(rt::to_string(kind)));
 }

@@ -65,7 +65,16 @@ double ModbusSimServer::wall_time_s() const {
 }
 
 void ModbusSimServer::refresh_registers() {
-  physics_->advance_to(wall_time_s() - start_wall_s_);
+  // The physics thread refreshes every 1 ms. A longer gap means rig-sim itself was off the
+  // CPU (a busy test machine): the simulated world does not move on in it, or the DAQ's
+  // watchdog would trip on silence that a real DAQ never saw (rigd's writes were queued).
+  const double wall_s = wall_time_s();
+  constexpr double kOwnStall_s = 0.003, kTick_s = 0.001;
+  if (last_refresh_wall_s_ > 0.0 && wall_s - last_refresh_wall_s_ > kOwnStall_s) {
+    start_wall_s_ += wall_s - last_refresh_wall_s_ - kTick_s;
+  }
+  last_refresh_wall_s_ = wall_s;
+  physics_->advance_to(wall_s - start_wall_s_);
   std::uint16_t* in = mapping_->tab_input_registers;
   const drivers::AnalogFrame frame = physics_->analog_frame();
   const drivers::DigitalInputs digital = physics_->digital_inputs();
@@ -101,10 +110,22 @@ void ModbusSimServer::apply_writes() {
   if (!std::isfinite(faults.extra_force_N)) faults.extra_force_N = 0.0;
   faults.end_limit_forced = h[reg::sim_panel::kEndLimitForced] != 0;
   faults.home_limit_forced = h[reg::sim_panel::kHomeLimitForced] != 0;
-  if (h[reg::sim_panel::kNewEye] != last_new_eye_) {
-    last_new_eye_ = h[reg::sim_panel::kNewEye];
-    if (last_new_eye_ != 0) physics_->mount_new_eye(2.0);
-  }
+  faults.drive_fault = h[reg::sim_panel::kDriveFault] != 0;
+  faults.carriage_jammed = h[reg::sim_panel::kCarriageJammed] != 0;
+  faults.position_offset_mm = reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm);
+  if (!std::isfinite(faults.position_offset_mm)) faults.position_offset_mm = 0.0;
+  faults.home_switch_broken = h[reg::sim_panel::kHomeSwitchBroken] != 0;
+  faults.writes_rejected = h[reg::sim_panel::kRejectWrites] != 0;
+  if (new_nonzero(h[reg::sim_panel::kNewEye], last_new_eye_)) physics_->mount_new_eye(2.0);
+  if (new_nonzero(h[reg::sim_panel::kRestartDaq], last_restart_)) physics_->restart_daq();
+  if (new_nonzero(h[reg::sim_panel::kTripWatchdog], last_trip_)) physics_->trip_watchdog();
+}
+
+// One-shot panel registers act once per new non-zero value written.
+bool ModbusSimServer::new_nonzero(std::uint16_t value, std::uint16_t& last) {
+  const bool act = value != last && value != 0;
+  last = value;
+  return act;
 }
 
 void ModbusSimServer::drop_all(std::vector<int>& clients) {
@@ -153,9 +174,14 @@ ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
   if (garbage && function == MODBUS_FC_READ_INPUT_REGISTERS) {
     std::fill_n(mapping_->tab_input_registers, reg::input::kCount, std::uint16_t{0xFFFF});
   }
-  const int rc = modbus_reply(ctx, query, length, mapping_.get());
   const bool write = function == MODBUS_FC_WRITE_SINGLE_REGISTER || function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
                      function == MODBUS_FC_WRITE_AND_READ_REGISTERS;
+  if (write && address < reg::holding::kCount && physics_->faults().writes_rejected) {
+    // The DAQ answers but refuses its outputs (exception 4, server device failure).
+    const int refused = modbus_reply_exception(ctx, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
+    return refused < 0 ? Served::kPeerGone : Served::kOk;
+  }
+  const int rc = modbus_reply(ctx, query, length, mapping_.get());
   if (write) {
     apply_writes();
     if (address < reg::holding::kCount) {

@@ -48,6 +48,7 @@ class ModbusSimServer {
   double wall_time_s() const;
   void refresh_registers();  // physics -> input registers (mutex held)
   void apply_writes();       // holding registers -> physics and faults (mutex held)
+  static bool new_nonzero(std::uint16_t value, std::uint16_t& last);
   enum class Served { kOk, kPeerGone, kLinkCut };
   Served serve_request(_modbus* ctx);  // one request on a TCP client or the RTU line
   void serve_client(int fd, std::vector<int>& clients);
@@ -64,6 +65,9 @@ class ModbusSimServer {
   int port_ = 0;
   double start_wall_s_ = 0.0;
   std::uint16_t last_new_eye_ = 0;
+  std::uint16_t last_restart_ = 0;  // kRestartDaq, kTripWatchdog: act on each new value
+  std::uint16_t last_trip_ = 0;
+  double last_refresh_wall_s_ = 0.0;
 };
 
 }  // namespace rig::sim

@@ -65,5 +65,25 @@ TEST(ClosedLoop, ACutHoldsTwoMillimetresPerSecondAndPeaksWhereTheTissuePunctures
   EXPECT_LT(peak->force_N, 0.40);
 }
 
+TEST(ClosedLoop, TwoCommandsTakenInOneCycleAreEachAnsweredInTheStatus) {
+  sim::SimulatedRig rig;
+  rt::Command tare;
+  tare.kind = CommandKind::kTare;
+  tare.id = 501;
+  rt::Command home;
+  home.kind = CommandKind::kHome;
+  home.id = 502;
+  ASSERT_TRUE(rig.channels().commands.push(tare));  // two clients, same cycle
+  ASSERT_TRUE(rig.channels().commands.push(home));
+  rig.loop().run_for(rig.loop().period_ns());
+  const rt::StatusSnapshot st = rig.status();
+  EXPECT_EQ(st.last_command_id, 502U);
+  ASSERT_TRUE(st.answer_to(501).has_value()) << "the first client's answer was lost: it would wait for a 504";
+  EXPECT_EQ(*st.answer_to(501), CommandResult::kAccepted);
+  ASSERT_TRUE(st.answer_to(502).has_value());
+  EXPECT_EQ(*st.answer_to(502), CommandResult::kAccepted);
+  EXPECT_FALSE(st.answer_to(503).has_value());
+}
+
 }  // namespace
 }  // namespace rig

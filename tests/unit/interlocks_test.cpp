@@ -148,6 +148,7 @@ TEST_F(InterlockTest, AShortIopDipBelowFaultAfterMsDoesNotFaultTheRun) {
 }
 
 TEST_F(InterlockTest, AnOverrunStormStopsTheMotor) {
+  rig_.physics().set_watchdog_ms(5);  // shipped: a 3 ms late wake-up does not trip the DAQ
   for (int i = 0; i < 8; ++i) {
     rig_.clock().add_wakeup_delay(3'000'000);  // wake up 3 ms late
     rig_.loop().run_for(rig_.loop().period_ns());
@@ -159,6 +160,7 @@ TEST_F(InterlockTest, AnOverrunStormStopsTheMotor) {
 }
 
 TEST_F(InterlockTest, ASingleLateWakeUpIsCountedButDoesNotFaultTheRun) {
+  rig_.physics().set_watchdog_ms(5);  // shipped: a 3 ms late wake-up does not trip the DAQ
   rig_.clock().add_wakeup_delay(3'000'000);
   rig_.advance(0.05);
   EXPECT_EQ(rig_.status().state, RunState::kCutting);
@@ -198,6 +200,92 @@ TEST_F(InterlockTest, StopMidCutStopsTheMotorAndEndsTheRunAsStopped) {
   EXPECT_TRUE(stopped);
   // The blade is still in the eye: a new run needs homing first.
   EXPECT_EQ(rig_.command(CommandKind::kArm, rt::RunParams{}), rt::CommandResult::kNotAtPark);
+}
+
+// Control over the DAQ's outputs lost while it still answers reads (docs/faults.md).
+TEST_F(InterlockTest, RefusedOutputWritesFaultTheRunBeforeTheDaqWatchdogAndItStopsTheMotor) {
+  rig_.physics().set_watchdog_ms(5);  // the shipped setting: rigd must fault before it trips
+  const double t = rig_.physics().time_s();  // the last accepted write
+  rig_.physics().faults().writes_rejected = true;
+  EXPECT_LE(motor_off_delay(t), 0.005 + 2 * kPhysicsStep_s) << "the DAQ's watchdog, as rigd cannot write";
+  EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWriteFailed);
+  EXPECT_GE(rig_.channels().counters.write_failures.load(), 2U);
+  expect_run_kept_with(FaultCode::kDaqWriteFailed);
+}
+
+TEST_F(InterlockTest, ADaqWatchdogTripFaultsTheRunAndTheMotorIsNeverPoweredAgain) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().trip_watchdog();
+  // motor_off_delay() takes the last power-off: a rigd that wrote the motor on again after
+  // the trip would move it later than this.
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWatchdogTripped);
+  expect_run_kept_with(FaultCode::kDaqWatchdogTripped);
+}
+
+TEST_F(InterlockTest, ADaqRebootFaultsTheRunAndTheMotorIsNeverPoweredAgain) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().restart_daq();  // outputs off, conversion counter from 0
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kDaqRestarted);
+  expect_run_kept_with(FaultCode::kDaqRestarted);
+}
+
+TEST_F(InterlockTest, ADriveFaultStopsTheMotorWithinOnePeriod) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().drive_fault = true;
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kDriveFault);
+  expect_run_kept_with(FaultCode::kDriveFault);
+}
+
+TEST_F(InterlockTest, APotentiometerReadingPastTheSoftLimitStopsTheMotorWithinOnePeriod) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().position_offset_mm = 30.0;  // reads beyond motion.soft_max_mm (44 mm)
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kSoftLimit);
+  EXPECT_GT(rig_.status().fault_value, 44.0);
+  expect_run_kept_with(FaultCode::kSoftLimit);
+}
+
+TEST_F(InterlockTest, AJammedCarriageFaultsWithAFollowingErrorOnceItIsOneMillimetreBehind) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().faults().carriage_jammed = true;
+  rig_.advance(1.5);
+  rig_.drain(samples_, events_);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kFollowingError);
+  const sim::RigTruth truth = rig_.physics().truth();
+  ASSERT_FALSE(truth.motor_powered);
+  // safety.max_following_error_mm (1 mm) at the cut's 2 mm/s: 0.5 s, plus the loop's filter.
+  const double delay = truth.motor_off_time_s - t;
+  std::cout << "motor off " << delay * 1e3 << " ms after the jam\n";
+  EXPECT_GE(delay, 0.45);
+  EXPECT_LE(delay, 0.55);
+  expect_run_kept_with(FaultCode::kFollowingError);
+}
+
+TEST(HomingTest, ABrokenHomeSwitchFailsHomingWhenTheCarriageStopsAtItsHardStop) {
+  sim::SimulatedRig rig;
+  rig.physics().set_watchdog_ms(1);
+  rig.physics().faults().home_switch_broken = true;
+  ASSERT_EQ(rig.command(CommandKind::kHome), rt::CommandResult::kAccepted);
+  double stopped_at = -1.0;  // the carriage reached its hard stop
+  const double hard_stop_mm = rig.physics().params().motor.travel_min_mm;
+  for (int ms = 0; ms < 20000 && rig.status().state == RunState::kHoming; ++ms) {
+    rig.advance(kPeriod_s);
+    if (stopped_at < 0.0 && rig.physics().truth().carriage_mm <= hard_stop_mm + 1e-9) stopped_at = rig.physics().time_s();
+  }
+  rig.advance(0.01);
+  ASSERT_GE(stopped_at, 0.0) << "the carriage never reached its hard stop";
+  EXPECT_EQ(rig.status().state, RunState::kFault);
+  EXPECT_EQ(rig.status().fault, FaultCode::kHomingFailed);
+  EXPECT_FALSE(rig.status().homed);
+  const sim::RigTruth truth = rig.physics().truth();
+  ASSERT_FALSE(truth.motor_powered);
+  // The reference runs on at motion.homing_velocity_mm_s (4 mm/s): 1 mm of following error in 0.25 s.
+  const double delay = truth.motor_off_time_s - stopped_at;
+  std::cout << "motor off " << delay * 1e3 << " ms after the carriage stopped\n";
+  EXPECT_LE(delay, 0.25 + 0.05);
 }
 
 }  // namespace

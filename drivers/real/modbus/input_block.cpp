@@ -27,6 +27,7 @@ std::optional<DecodedInputBlock> decode_input_block(std::span<const std::uint16_
   out.digital.end_limit = (bits & reg::input_bit::kEndLimit) != 0;
   out.digital.estop = (bits & reg::input_bit::kEstop) != 0;
   out.digital.drive_fault = (bits & reg::input_bit::kDriveFault) != 0;
+  out.digital.daq_watchdog_tripped = (bits & reg::input_bit::kWatchdogTripped) != 0;
   return out;
 }
 

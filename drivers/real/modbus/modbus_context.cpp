@@ -43,6 +43,8 @@ IoStatus io_status_from_errno(int error_number) noexcept {
     case ENXIO:
       return IoStatus::kLinkDown;
     default:
+      // EMBXILFUN ... EMBXGTAR: the DAQ answered in step and said no (e.g. exception 4).
+      if (error_number > MODBUS_ENOBASE && error_number < MODBUS_ENOBASE + MODBUS_EXCEPTION_MAX) return IoStatus::kRefused;
       // EMBBADDATA, EMBBADCRC, EMBBADEXC, EMBMDATA, EMBXILFUN, ...: the peer answered
       // something we cannot use.
       return IoStatus::kBadData;

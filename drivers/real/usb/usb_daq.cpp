@@ -166,7 +166,7 @@ IoStatus UsbDaq::transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> p
     const auto header = usbdaq::decode_header(std::span<const std::uint8_t>(reply.data(), static_cast<std::size_t>(got)));
     if (!header || !header->response || header->opcode != opcode) { ++counters_.bad_data; return IoStatus::kBadData; }
     if (header->sequence != sequence) continue;
-    if (header->status != usbdaq::Status::kOk) { ++counters_.bad_data; return IoStatus::kBadData; }
+    if (header->status != usbdaq::Status::kOk) { ++counters_.bad_data; return IoStatus::kRefused; }
     reply_payload = std::span<const std::uint8_t>(reply.data() + usbdaq::kHeaderSize, header->length);
     return IoStatus::kOk;
   }
@@ -205,6 +205,7 @@ IoStatus UsbDaq::read(DigitalInputs& inputs) noexcept {
   inputs.end_limit = (inputs_.digital & 2U) != 0;
   inputs.estop = (inputs_.digital & 4U) != 0;
   inputs.drive_fault = (inputs_.digital & 8U) != 0;
+  inputs.daq_watchdog_tripped = watchdog_tripped_;  // flags bit 0 of the same reply
   return IoStatus::kOk;
 }
 

@@ -26,9 +26,27 @@ void RigPhysics::mount_new_eye(double covariate_value) {
   outside_idle_s_ = 0.0;
 }
 
+bool RigPhysics::watchdog_tripped() const {
+  // Half a step of slack: silence is a whole number of steps, summed in floating point.
+  return watchdog_trip_latched_ || (watchdog_s_ > 0.0 && time_s_ - last_write_s_ > watchdog_s_ + 0.5 * params_.step_s);
+}
+
 bool RigPhysics::motor_powered() const {
-  const bool watchdog_ok = watchdog_s_ <= 0.0 || time_s_ - last_write_s_ <= watchdog_s_;
-  return drive_.motor_enable && digital_out_.motor_enable && watchdog_ok;
+  return drive_.motor_enable && digital_out_.motor_enable && !watchdog_tripped();
+}
+
+void RigPhysics::restart_daq() {
+  drive_ = {};
+  digital_out_ = {};
+  watchdog_s_ = 0.0;
+  watchdog_trip_latched_ = false;
+  sequence_ = 0;
+}
+
+void RigPhysics::trip_watchdog() {
+  drive_ = {};
+  digital_out_ = {};
+  watchdog_trip_latched_ = true;
 }
 
 void RigPhysics::write_outputs(const drivers::DriveCommand& drive,
@@ -37,15 +55,17 @@ void RigPhysics::write_outputs(const drivers::DriveCommand& drive,
   drive_ = drive;
   digital_out_ = digital;
   last_write_s_ = time_s_;
+  watchdog_trip_latched_ = false;
 }
 
 drivers::DigitalInputs RigPhysics::digital_inputs() const {
   drivers::DigitalInputs inputs;
   const double x = motor_.position_mm();
-  inputs.home_limit = faults_.home_limit_forced || x <= params_.switches.home_switch_mm;
+  inputs.home_limit = !faults_.home_switch_broken && (faults_.home_limit_forced || x <= params_.switches.home_switch_mm);
   inputs.end_limit = faults_.end_limit_forced || x >= params_.switches.end_switch_mm;
   inputs.estop = faults_.estop_pressed;
-  inputs.drive_fault = false;
+  inputs.drive_fault = faults_.drive_fault;
+  inputs.daq_watchdog_tripped = watchdog_tripped();
   return inputs;
 }
 
@@ -62,7 +82,9 @@ void RigPhysics::step_once() {
   const bool powered = motor_powered();
   if (was_powered_ && !powered) motor_off_time_s_ = time_s_;
   was_powered_ = powered;
+  const double before_mm = motor_.position_mm();
   motor_.step(dt, drive_.motor_volts, powered, tissue_.force_N());
+  if (faults_.carriage_jammed) motor_.seize_at(before_mm);
   TissueInput input;
   input.carriage_depth_mm = motor_.position_mm() - params_.tissue.surface_mm;
   input.velocity_mm_s = motor_.velocity_mm_s();
@@ -74,7 +96,7 @@ void RigPhysics::step_once() {
   time_s_ += dt;
   maybe_swap_eye();
 
-  TrueSignals truth{tissue_.force_N() + faults_.extra_force_N, motor_.position_mm(),
+  TrueSignals truth{tissue_.force_N() + faults_.extra_force_N, motor_.position_mm() + faults_.position_offset_mm,
                     iop_.pressure_mmHg(), time_s_, time_s_ - eye_mounted_s_, motor_.velocity_mm_s()};
   sensors_.advance(dt);
   const drivers::AnalogFrame fresh = sensors_.convert(truth, rng_);
@@ -99,7 +121,7 @@ RigTruth RigPhysics::truth() const {
   t.punctured = tissue_.punctured();
   t.motor_powered = motor_powered();
   t.motor_off_time_s = motor_off_time_s_;
-  t.watchdog_tripped = watchdog_s_ > 0.0 && time_s_ - last_write_s_ > watchdog_s_;
+  t.watchdog_tripped = watchdog_tripped();
   t.camera_trigger_edges = trigger_edges_;
   return t;
 }

@@ -9,6 +9,9 @@ struct DigitalInputs {
   bool end_limit = false;    // carriage at the far end stop (towards the eye)
   bool estop = false;        // e-stop button pressed (or its loop broken)
   bool drive_fault = false;  // motor drive reports a fault
+  // The DAQ's communication watchdog forced its outputs off since rigd's last write (no
+  // write for daq.watchdog_ms): the motor stopped without rigd commanding it.
+  bool daq_watchdog_tripped = false;
 };
 
 struct DigitalOutputs {

@@ -58,7 +58,14 @@ inline constexpr int kGarbageReplies = 106;    // u16 0/1: answer with invalid v
 inline constexpr int kEndLimitForced = 107;    // u16 0/1
 inline constexpr int kHomeLimitForced = 108;   // u16 0/1
 inline constexpr int kNewEye = 109;            // u16 write 1: mount a fresh eye
-inline constexpr int kCount = 10;
+inline constexpr int kDriveFault = 110;        // u16 0/1: the motor drive reports a fault
+inline constexpr int kCarriageJammed = 111;    // u16 0/1: the lead screw seizes (stall)
+inline constexpr int kPositionOffsetMm = 112;  // f32 [mm]: potentiometer reads this much further
+inline constexpr int kHomeSwitchBroken = 114;  // u16 0/1: the home switch never closes
+inline constexpr int kRejectWrites = 115;      // u16 0/1: output-block writes get exception 4
+inline constexpr int kRestartDaq = 116;        // u16 write a new non-zero value: the DAQ reboots
+inline constexpr int kTripWatchdog = 117;      // u16 write a new non-zero value: the DAQ's watchdog trips
+inline constexpr int kCount = 18;
 }  // namespace sim_panel
 
 namespace sim_truth {
@@ -71,7 +78,7 @@ inline constexpr int kTipDepthMm = 109;        // f32
 inline constexpr int kCount = 11;
 }  // namespace sim_truth
 
-inline constexpr int kMapSize = 112;  // registers of each table the server maps
+inline constexpr int kMapSize = 120;  // registers of each table the server maps
 
 inline void encode_u32(std::uint32_t value, std::uint16_t* words) {
   words[0] = static_cast<std::uint16_t>(value >> 16U);

@@ -18,6 +18,11 @@ class MotorScrew {
   double velocity_mm_s() const { return omega_rad_s_ * mm_per_motor_rad(); }
   double current_A() const { return current_A_; }
   void set_position_mm(double position_mm) { position_mm_ = position_mm; }
+  // A seized screw: the carriage stays at position_mm and the shaft stands still.
+  void seize_at(double position_mm) {
+    position_mm_ = position_mm;
+    omega_rad_s_ = 0.0;
+  }
   double screw_angle_rad() const;  // screw angle modulo one turn [rad]
 
  private:

@@ -27,6 +27,11 @@ struct InjectedFaults {
   bool home_limit_forced = false;
   double extra_force_N = 0.0;      // collision / overload added to the load cell
   double iop_leak_fraction = 0.0;  // a burst line or torn eye: the pressure the pump can hold falls by this fraction
+  bool drive_fault = false;        // the drive flags a fault (e.g. over-temperature) and keeps its power stage on
+  bool carriage_jammed = false;    // the lead screw seizes: the carriage stops whatever the motor does
+  double position_offset_mm = 0.0; // the potentiometer reads this much further (slipped coupling)
+  bool home_switch_broken = false; // the home switch never closes
+  bool writes_rejected = false;    // the DAQ refuses writes to its outputs (answers with an exception)
 };
 
 struct RigTruth {
@@ -53,6 +58,10 @@ class RigPhysics {
   // DAQ side. Every output write feeds the DAQ's communication watchdog.
   void write_outputs(const drivers::DriveCommand& drive, const drivers::DigitalOutputs& digital);
   void set_watchdog_ms(int watchdog_ms) { watchdog_s_ = watchdog_ms * 1e-3; }
+  // The DAQ reboots: outputs off, watchdog off, its conversion counter starts again at 0.
+  void restart_daq();
+  // The DAQ's watchdog trips as if rigd had fallen silent: outputs off, flag set until the next write.
+  void trip_watchdog();
   drivers::AnalogFrame analog_frame() const { return frame_; }
   drivers::DigitalInputs digital_inputs() const;
 
@@ -73,6 +82,7 @@ class RigPhysics {
  private:
   void step_once();
   bool motor_powered() const;
+  bool watchdog_tripped() const;
   void maybe_swap_eye();
 
   PhysicsParams params_;
@@ -90,6 +100,7 @@ class RigPhysics {
   double eye_mounted_s_ = 0.0;
   double last_write_s_ = 0.0;
   double watchdog_s_ = 0.0;
+  bool watchdog_trip_latched_ = false;  // trip_watchdog(), until the next write
   double motor_off_time_s_ = -1.0;
   bool was_powered_ = false;
   bool auto_new_eye_ = true;

@@ -1,0 +1,86 @@
+// A long `rig import` shares the archive with rigd's recorder: it must never hold the write
+// lock long enough to fault a running cut (SQLite's busy timeout is 5 s; the recorder commits
+// every 50 ms and its ring holds about a second).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "archive.hpp"
+#include "test_paths.hpp"
+
+namespace rig::archive {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+model::RunData long_run(std::size_t samples) {
+  model::RunData run;
+  run.source = "long.csv";
+  run.set("eye_id", "LONG");
+  run.t_s.resize(samples);
+  run.x_mm.resize(samples);
+  run.force_N.resize(samples);
+  for (std::size_t i = 0; i < samples; ++i) {
+    run.t_s[i] = static_cast<double>(i) * 1e-4;
+    run.x_mm[i] = static_cast<double>(i) * 1e-5;
+    run.force_N[i] = 0.1;
+  }
+  return run;
+}
+
+TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneChunk) {
+  testing::ScratchDir dir("archive-import-lock");
+  const std::string path = dir.file("a.sqlite");
+  Archive recorder(path);
+  const std::int64_t cut = recorder.create_run(NewRun{});
+  recorder.mark_started(cut);
+  const model::RunData big = long_run(400'000);
+
+  std::atomic<bool> importing{true};
+  std::int64_t imported = 0;
+  Clock::duration import_took{};
+  std::thread importer([&] {
+    Archive cli(path);
+    const auto start = Clock::now();
+    imported = cli.import_run(big);
+    import_took = Clock::now() - start;
+    importing.store(false);
+  });
+  // The recorder's rhythm: a short write transaction every few ms, as long as the import runs.
+  Clock::duration longest_commit{};
+  std::uint64_t cycle = 0;
+  int commits = 0;
+  while (importing.load()) {
+    const auto start = Clock::now();
+    recorder.begin();
+    rt::Sample s;
+    s.run_id = cut;
+    s.cycle = cycle++;
+    recorder.append_sample(s);
+    recorder.commit();  // throws on SQLITE_BUSY: the cut would fault
+    longest_commit = std::max(longest_commit, Clock::now() - start);
+    ++commits;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  importer.join();
+  const double import_ms = std::chrono::duration<double, std::milli>(import_took).count();
+  const double longest_ms = std::chrono::duration<double, std::milli>(longest_commit).count();
+  std::printf("import %.0f ms, %d recorder commits meanwhile, longest %.1f ms\n", import_ms, commits, longest_ms);
+  ASSERT_GT(import_ms, 200.0) << "the import is too short to tell";
+  // One chunk (20 ms) and a poll, not the whole import: a single-transaction import holds
+  // every commit off until it ends.
+  EXPECT_LT(longest_ms, import_ms / 4) << "the recorder waited for most of the import";
+  EXPECT_GT(commits, 10);
+  const auto row = recorder.find_run(imported);
+  ASSERT_TRUE(row.has_value());
+  EXPECT_EQ(row->outcome, "imported");
+  EXPECT_EQ(row->samples, 400'000);
+  EXPECT_EQ(recorder.find_run(cut)->samples, commits);
+}
+
+}  // namespace
+}  // namespace rig::archive
