@@ -17,13 +17,6 @@ std::string optional_text(archive::Statement& q, int column) { return q.is_null(
 
 const char* nullable(const std::string& value) { return value.empty() ? nullptr : value.c_str(); }
 
-// Staging tables (per session): COPY lands here, INSERT ... ON CONFLICT DO NOTHING moves on.
-constexpr const char* kStaging = R"sql(
-CREATE TEMP TABLE IF NOT EXISTS samples_in (LIKE samples) ON COMMIT DELETE ROWS;
-CREATE TEMP TABLE IF NOT EXISTS events_in (LIKE events) ON COMMIT DELETE ROWS;
-CREATE TEMP TABLE IF NOT EXISTS frames_in (LIKE frames) ON COMMIT DELETE ROWS;
-)sql";
-
 constexpr const char* kUpsertRun = R"sql(
 INSERT INTO runs (run_uuid, rig_id, local_run_id, eye_id, iop_mmhg, velocity_mm_s, depth_mm, hold_s, post_mortem_h,
   operator, notes, config_hash, software_version, surface_mm, rate_hz, created_at, started_at, ended_at, outcome,
@@ -32,6 +25,7 @@ VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13,$14,$15,$16,$17,$18,$19,$20,$
 ON CONFLICT (run_uuid) DO UPDATE SET started_at = EXCLUDED.started_at, ended_at = EXCLUDED.ended_at,
   outcome = EXCLUDED.outcome, reason = EXCLUDED.reason, meta = EXCLUDED.meta, eye_lot = EXCLUDED.eye_lot,
   replicated_at = now()
+RETURNING last_idx, events, frames, xmax = 0
 )sql";
 
 }  // namespace
@@ -47,7 +41,6 @@ void RunShipper::forget_server_state() {
 
 void RunShipper::prepare_session(PgConnection& db) {
   if (session_ready_) return;
-  db.exec(kStaging, "create the staging tables");
   db.query("INSERT INTO rigs (rig_id, software_version) VALUES ($1, $2) ON CONFLICT (rig_id) DO UPDATE SET "
            "last_seen = now(), software_version = EXCLUDED.software_version",
            {rig_id_, software_version_}, "register rig " + rig_id_);
@@ -96,8 +89,8 @@ std::int64_t RunShipper::ship_run(PgConnection& db, const LocalRun& run, std::in
   Watermark mark = known == server_.end() ? Watermark{} : known->second;
   if (mark.outcome.empty()) ensure_samples_partition(db, run.created_at);
   PgTransaction tx(db);
-  upsert_run(db, run);
-  if (known == server_.end() && run.source != "rig") copy_channels(db, run);
+  mark = upsert_run(db, run);  // locks the run's row: the watermark read is the one to extend
+  if (mark.new_on_server && run.source != "rig") copy_channels(db, run);
   std::int64_t last_idx = mark.last_idx;
   const std::int64_t samples = copy_samples(db, run, mark.last_idx, std::max<std::int64_t>(max_samples, 1), last_idx);
   const std::int64_t events = copy_events(db, run, mark.events);
@@ -112,7 +105,7 @@ std::int64_t RunShipper::ship_run(PgConnection& db, const LocalRun& run, std::in
   return samples;
 }
 
-void RunShipper::upsert_run(PgConnection& db, const LocalRun& run) {
+RunShipper::Watermark RunShipper::upsert_run(PgConnection& db, const LocalRun& run) {
   archive::Statement q = local_.prepare(
       "SELECT eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, operator, notes, config_hash,"
       " software_version, surface_mm, rate_hz, created_at, started_at, ended_at, outcome, reason, source FROM runs WHERE id = ?");
@@ -133,7 +126,8 @@ void RunShipper::upsert_run(PgConnection& db, const LocalRun& run) {
     const bool required = std::find(std::begin(kRequired), std::end(kRequired), i) != std::end(kRequired);
     raw.push_back(required ? values[i].c_str() : nullable(values[i]));
   }
-  db.query_raw(kUpsertRun, raw, "store the metadata of run " + run.uuid);
+  PgResult mark = db.query_raw(kUpsertRun, raw, "store the metadata of run " + run.uuid);
+  return Watermark{mark.integer(0, 0), mark.integer(0, 1), mark.integer(0, 2), run.outcome, mark.text(0, 3) == "t"};
 }
 
 std::int64_t RunShipper::copy_samples(PgConnection& db, const LocalRun& run, std::int64_t after_idx, std::int64_t limit,
@@ -152,10 +146,10 @@ std::int64_t RunShipper::copy_samples(PgConnection& db, const LocalRun& run, std
     rows.end_row();
   }
   if (rows.rows() == 0) return 0;
-  db.copy_in("COPY samples_in FROM STDIN", rows.text(), "copy the samples of run " + run.uuid);
-  PgResult moved = db.query("WITH moved AS (INSERT INTO samples SELECT * FROM samples_in ON CONFLICT DO NOTHING RETURNING 1)"
-                            " SELECT count(*) FROM moved", {}, "store the samples of run " + run.uuid);
-  return moved.integer(0, 0);
+  // Straight into the partition: the locked watermark says none of these is there yet, and
+  // the primary key would refuse (and roll back) a duplicate if it ever were.
+  db.copy_in("COPY samples FROM STDIN", rows.text(), "copy the samples of run " + run.uuid);
+  return rows.rows();
 }
 
 std::int64_t RunShipper::copy_events(PgConnection& db, const LocalRun& run, std::int64_t already) {
@@ -166,8 +160,7 @@ std::int64_t RunShipper::copy_events(PgConnection& db, const LocalRun& run, std:
     rows.field(run.uuid).field(seq).field(q.real(0)).field(q.text(1)).field(q.text(2)).end_row();
   }
   if (rows.rows() == 0) return 0;
-  db.copy_in("COPY events_in FROM STDIN", rows.text(), "copy the events of run " + run.uuid);
-  db.exec("INSERT INTO events SELECT * FROM events_in ON CONFLICT DO NOTHING", "store the events of run " + run.uuid);
+  db.copy_in("COPY events FROM STDIN", rows.text(), "copy the events of run " + run.uuid);
   return rows.rows();
 }
 
@@ -185,8 +178,7 @@ std::int64_t RunShipper::copy_frames(PgConnection& db, const LocalRun& run, std:
     rows.end_row();
   }
   if (rows.rows() == 0) return 0;
-  db.copy_in("COPY frames_in FROM STDIN", rows.text(), "copy the frame index of run " + run.uuid);
-  db.exec("INSERT INTO frames SELECT * FROM frames_in ON CONFLICT DO NOTHING", "store the frame index of run " + run.uuid);
+  db.copy_in("COPY frames FROM STDIN", rows.text(), "copy the frame index of run " + run.uuid);
   return rows.rows();
 }
 

@@ -3,8 +3,10 @@
 // then samples, events and frames past the server's watermark for that run, all in one
 // transaction with the new watermark. The watermark lives on the server (runs.last_idx,
 // runs.events, runs.frames), so a retry after a lost commit, a rigd restart or a server
-// restart re-reads it and never sends a row twice; the primary keys (run uuid + sample
-// index) turn any replay into a no-op besides. Samples go by COPY into a staging table.
+// restart re-reads it and never sends a row twice. Each transaction reads the watermark
+// under the run row's lock (the metadata upsert), so two shippers of one rig cannot
+// interleave; the primary keys (run uuid + sample index) refuse a duplicate besides.
+// Samples, events and frames go by COPY (text format).
 #include <cstdint>
 #include <map>
 #include <set>
@@ -38,6 +40,7 @@ class RunShipper {
     std::int64_t events = 0;
     std::int64_t frames = 0;
     std::string outcome;
+    bool new_on_server = false;  // the upsert inserted the run (its channels go along)
   };
   struct LocalRun {
     std::int64_t id = 0;
@@ -51,7 +54,7 @@ class RunShipper {
   void prepare_session(PgConnection& db);
   std::vector<LocalRun> local_runs();
   std::int64_t ship_run(PgConnection& db, const LocalRun& run, std::int64_t max_samples);
-  void upsert_run(PgConnection& db, const LocalRun& run);
+  Watermark upsert_run(PgConnection& db, const LocalRun& run);
   std::int64_t copy_samples(PgConnection& db, const LocalRun& run, std::int64_t after_idx, std::int64_t limit,
                             std::int64_t& last_idx);
   std::int64_t copy_events(PgConnection& db, const LocalRun& run, std::int64_t already);

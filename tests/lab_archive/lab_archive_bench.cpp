@@ -131,7 +131,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   try {
     rig::testing::ScratchDir dir("bench-lab-archive");
-    rig::testing::PgTestServer server;
+    rig::testing::PgTestServer server(true);  // fsync on, as a lab's server
     streaming_phase(o, server, dir);
     return o.diagnose_runs > 0 ? diagnose_phase(o.diagnose_runs, server, dir) : 0;
   } catch (const std::exception& e) {

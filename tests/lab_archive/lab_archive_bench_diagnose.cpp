@@ -29,8 +29,10 @@ std::string generate_command(const std::string& out, int runs) {
 }
 
 void run_or_throw(const std::string& command) {
-  const auto r = rig::testing::run_command(command + " > /dev/null");
-  if (r.exit_code != 0) throw std::runtime_error(command.substr(0, 200) + " failed:\n" + r.output.substr(0, 2000));
+  const auto r = rig::testing::run_command(command);
+  if (r.exit_code != 0) {
+    throw std::runtime_error(command.substr(0, 300) + " failed:\n" + r.output.substr(r.output.size() > 2000 ? r.output.size() - 2000 : 0));
+  }
 }
 
 }  // namespace

@@ -140,6 +140,24 @@ TEST(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
   EXPECT_EQ(server.query("SELECT outcome FROM runs"), "completed");
 }
 
+TEST(LabReplication, TwoShippersOfOneRigNeverSendASampleTwice) {
+  testing::ScratchDir dir("lab-two");
+  testing::PgTestServer server;
+  archive::Archive local(dir.file("a.sqlite"));
+  testing::LocalRunWriter writer(local);
+  PgConnection db_a(server.conninfo()), db_b(server.conninfo());
+  create_or_migrate_lab_schema(db_a);
+  RunShipper a(local.path(), "rig-a", "test"), b(local.path(), "rig-a", "test");  // e.g. rigd and a manual push
+  const std::int64_t id = writer.start("E11", "L9");
+  writer.append(id, 1000);
+  EXPECT_EQ(a.ship_pass(db_a, 600), 600);
+  EXPECT_EQ(b.ship_pass(db_b, 100000), 400);  // b's first look at the server is under the run's lock
+  writer.append(id, 100);
+  EXPECT_EQ(a.ship_pass(db_a, 100000), 100);  // a's cached watermark is stale; the locked one is not
+  EXPECT_EQ(b.ship_pass(db_b, 100000), 0);
+  EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples"), "1100 1100");
+}
+
 TEST(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicatesNothing) {
   testing::ScratchDir dir("lab-restart");
   testing::PgTestServer server;

@@ -20,7 +20,9 @@ class PgTestServer {
  public:
   static constexpr const char* kBin = "/usr/lib/postgresql/15/bin";
 
-  PgTestServer() {
+  // durable: fsync as a real server (benchmarks); tests skip it (a crash of the test
+  // machine is not what they test, and fsync on a busy VM costs seconds).
+  explicit PgTestServer(bool durable = false) : durable_(durable) {
     char pattern[] = "/tmp/rig-pg-XXXXXX";
     if (mkdtemp(pattern) == nullptr) throw std::runtime_error("mkdtemp failed");
     dir_ = pattern;
@@ -46,7 +48,7 @@ class PgTestServer {
 
   void start() {
     server("pg_ctl -D " + dir_ + "/data -l " + dir_ + "/log -w -t 30 -o \"-p " + std::to_string(port_) + " -k " + dir_ +
-           " -c listen_addresses=127.0.0.1 -c fsync=off -c max_connections=60\" start");
+           " -c listen_addresses=127.0.0.1 -c max_connections=60" + (durable_ ? "" : " -c fsync=off") + "\" start");
   }
   // mode: fast (clean shutdown) or immediate (like a crash; WAL replay at the next start).
   void stop(const std::string& mode = "fast") { server("pg_ctl -D " + dir_ + "/data -m " + mode + " -w stop"); }
@@ -114,6 +116,7 @@ class PgTestServer {
   std::string dir_;
   std::string as_user_;
   int port_ = 0;
+  bool durable_ = false;
 };
 
 }  // namespace rig::testing
