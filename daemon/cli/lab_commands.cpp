@@ -2,6 +2,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <iostream>
 
@@ -45,14 +47,14 @@ int push_archive(const CliContext& c, const PushOptions& o) {
   std::int64_t total = 0;
   while (const std::int64_t shipped = shipper.ship_pass(db, o.batch)) {
     total += shipped;
-    if (!c.json()) std::cerr << "\r" << total << " samples shipped" << std::flush;
+    if (!c.json() && isatty(STDERR_FILENO) == 1) std::cerr << "\r" << total << " samples shipped" << std::flush;
   }
   const lab_archive::Backlog left = shipper.backlog();
   if (c.json()) {
     std::cout << nlohmann::json{{"rig_id", settings.rig_id}, {"samples_shipped", total}, {"backlog_samples", left.samples},
                                 {"backlog_runs", left.runs}}.dump() << "\n";
   } else {
-    std::cerr << "\r";
+    if (isatty(STDERR_FILENO) == 1) std::cerr << "\r";
     std::cout << "rig " << settings.rig_id << ": " << total << " samples shipped, backlog " << left.runs << " runs, "
               << left.samples << " samples (runs still recording stay in the backlog)\n";
   }

@@ -101,6 +101,7 @@ void streaming_phase(const Options& o, rig::testing::PgTestServer& server, const
   // Headroom: a backlog per rig (as after a long cut), then every replicator drains at once.
   for (auto& rig : rigs) rig->append_now(o.backlog_samples);
   const std::int64_t total_before = std::stoll(server.query("SELECT coalesce(sum(samples), 0) FROM runs"));
+  const double drain_cpu_before = cpu.cpu_seconds();
   const auto drain_start = Clock::now();
   for (int r = 0; r < o.rigs; ++r) {
     replicators[static_cast<std::size_t>(r)] = std::make_unique<rig::lab_archive::LabReplicator>(settings(server, r), rigs[static_cast<std::size_t>(r)]->path(), "bench");
@@ -110,9 +111,15 @@ void streaming_phase(const Options& o, rig::testing::PgTestServer& server, const
   for (auto& rig : rigs) written += rig->samples();
   while (std::stoll(server.query("SELECT coalesce(sum(samples), 0) FROM runs")) < written) std::this_thread::sleep_for(std::chrono::milliseconds(100));
   const double drain_s = std::chrono::duration<double>(Clock::now() - drain_start).count();
+  const double drain_cpu = cpu.cpu_seconds() - drain_cpu_before;
   const double drain_rate = static_cast<double>(written - total_before) / drain_s;
   std::printf("drain: %d x %lld samples backlog in %.1f s = %.0f samples/s, headroom %.1fx the rigs' combined rate\n", o.rigs,
               static_cast<long long>(o.backlog_samples), drain_s, drain_rate, drain_rate / (o.rigs * o.rate_hz));
+  // The rigs' replicators share this machine with the server here; on a lab's network they
+  // do not, and the server's own cost per sample bounds what one server takes.
+  const double server_rate = static_cast<double>(written - total_before) / std::max(drain_cpu, 1e-3);
+  std::printf("  server CPU while draining %.1f s: %.0f samples per server CPU-second = %.0fx the rigs' rate per core\n", drain_cpu,
+              server_rate, server_rate / (o.rigs * o.rate_hz));
   for (auto& replicator : replicators) replicator->stop();
 }
 

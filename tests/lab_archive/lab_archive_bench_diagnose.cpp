@@ -58,12 +58,12 @@ int diagnose_phase(int runs, rig::testing::PgTestServer& server, const rig::test
   const double load_pg = seconds_since(start);
   std::string ids;
   for (const auto& row : rows) ids += " " + std::to_string(row.id);
-  const std::string diagnose = rig::testing::bin("rig") + " model diagnose --only shaft_friction";
+  const std::string diagnose = rig::testing::bin("rig") + " model diagnose ";
   start = Clock::now();
-  run_or_throw(diagnose + " --archive " + sqlite + ids);
+  run_or_throw(diagnose + ids.substr(1) + " --archive " + sqlite + " --only shaft_friction");
   const double diagnose_sqlite = seconds_since(start);
   start = Clock::now();
-  run_or_throw(diagnose + " 'pg:" + server.conninfo() + "' --rig bench-diagnose");
+  run_or_throw(diagnose + "'pg:" + server.conninfo() + "' --rig bench-diagnose --only shaft_friction");
   const double diagnose_pg = seconds_since(start);
   std::printf("diagnose: %zu runs, %zu samples (pushed in %.1f s)\n", rows.size(), samples, push_s);
   std::printf("  load only:              SQLite %.2f s, PostgreSQL %.2f s\n", load_sqlite, load_pg);
