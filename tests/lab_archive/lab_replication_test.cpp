@@ -72,17 +72,27 @@ LabArchiveSettings settings_for(const std::string& conninfo, const std::string& 
   return s;
 }
 
-TEST(LabReplication, AFinishedRunReplicatesExactlyWithItsEventsFramesAndMetadata) {
-  testing::ScratchDir dir("lab-exact");
+// A rig's local archive with a run writer, and a throwaway lab server.
+class LabReplication : public ::testing::Test {
+ protected:
+  // A connection to the lab archive with the current schema.
+  PgConnection lab() {
+    PgConnection db(server.conninfo());
+    create_or_migrate_lab_schema(db);
+    return db;
+  }
+  testing::ScratchDir dir{"lab-replication"};
   testing::PgTestServer server;
-  archive::Archive local(dir.file("a.sqlite"));
-  testing::LocalRunWriter writer(local);
+  archive::Archive local{dir.file("a.sqlite")};
+  testing::LocalRunWriter writer{local};
+};
+
+TEST_F(LabReplication, AFinishedRunReplicatesExactlyWithItsEventsFramesAndMetadata) {
   const std::int64_t id = writer.start("E07", "L7");
   for (int batch = 0; batch < 5; ++batch) writer.append(id, 1000);
   local.add_frame({id, 0, 1500, 111, 222, 0, 4096, 64, 48, "frames/run-1.bin"});
   writer.finish(id);
-  PgConnection db(server.conninfo());
-  create_or_migrate_lab_schema(db);
+  PgConnection db = lab();
   RunShipper shipper(local.path(), "rig-a", "test");
   EXPECT_EQ(shipper.ship_pass(db, 100000), 5000);
   expect_exact_copy(server, local, "rig-a", id);
@@ -94,10 +104,7 @@ TEST(LabReplication, AFinishedRunReplicatesExactlyWithItsEventsFramesAndMetadata
   EXPECT_EQ(shipper.backlog().runs, 0);
 }
 
-TEST(LabReplication, AnImportedRunKeepsItsOwnChannels) {
-  testing::ScratchDir dir("lab-import");
-  testing::PgTestServer server;
-  archive::Archive local(dir.file("a.sqlite"));
+TEST_F(LabReplication, AnImportedRunKeepsItsOwnChannels) {
   model::RunData csv;
   csv.source = "elsewhere.csv";
   csv.meta = {{"eye_id", "P3"}, {"velocity_mm_s", "1.5"}};
@@ -108,21 +115,15 @@ TEST(LabReplication, AnImportedRunKeepsItsOwnChannels) {
   }
   csv.channels = {{"temperature_C", std::vector<double>(300, 36.6)}, {"strain_u", std::vector<double>(300, -1.0 / 7.0)}};
   const std::int64_t id = local.import_run(csv);
-  PgConnection db(server.conninfo());
-  create_or_migrate_lab_schema(db);
+  PgConnection db = lab();
   RunShipper shipper(local.path(), "rig-b", "test");
   shipper.ship_pass(db, 100000);
   expect_exact_copy(server, local, "rig-b", id);
   EXPECT_EQ(server.query("SELECT string_agg(name, ',' ORDER BY seq) FROM channels"), "temperature_C,strain_u");
 }
 
-TEST(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
-  testing::ScratchDir dir("lab-pieces");
-  testing::PgTestServer server;
-  archive::Archive local(dir.file("a.sqlite"));
-  testing::LocalRunWriter writer(local);
-  PgConnection db(server.conninfo());
-  create_or_migrate_lab_schema(db);
+TEST_F(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
+  PgConnection db = lab();
   RunShipper shipper(local.path(), "rig-a", "test");
   const std::int64_t id = writer.start("E08", "L7");
   for (int batch = 0; batch < 4; ++batch) {
@@ -140,13 +141,8 @@ TEST(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
   EXPECT_EQ(server.query("SELECT outcome FROM runs"), "completed");
 }
 
-TEST(LabReplication, TwoShippersOfOneRigNeverSendASampleTwice) {
-  testing::ScratchDir dir("lab-two");
-  testing::PgTestServer server;
-  archive::Archive local(dir.file("a.sqlite"));
-  testing::LocalRunWriter writer(local);
-  PgConnection db_a(server.conninfo()), db_b(server.conninfo());
-  create_or_migrate_lab_schema(db_a);
+TEST_F(LabReplication, TwoShippersOfOneRigNeverSendASampleTwice) {
+  PgConnection db_a = lab(), db_b = lab();
   RunShipper a(local.path(), "rig-a", "test"), b(local.path(), "rig-a", "test");  // e.g. rigd and a manual push
   const std::int64_t id = writer.start("E11", "L9");
   writer.append(id, 1000);
@@ -158,11 +154,7 @@ TEST(LabReplication, TwoShippersOfOneRigNeverSendASampleTwice) {
   EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples"), "1100 1100");
 }
 
-TEST(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicatesNothing) {
-  testing::ScratchDir dir("lab-restart");
-  testing::PgTestServer server;
-  archive::Archive local(dir.file("a.sqlite"));
-  testing::LocalRunWriter writer(local);
+TEST_F(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicatesNothing) {
   LabReplicator replicator(settings_for(server.conninfo(), "rig-a"), local.path(), "test");
   replicator.start();
   const std::int64_t id = writer.start("E09", "L8");
@@ -177,12 +169,8 @@ TEST(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicatesNo
   expect_exact_copy(server, local, "rig-a", id);
 }
 
-TEST(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
-  testing::ScratchDir dir("lab-cut");
-  testing::PgTestServer server;
+TEST_F(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
   testing::TcpCutProxy proxy(server.port());
-  archive::Archive local(dir.file("a.sqlite"));
-  testing::LocalRunWriter writer(local);
   LabReplicator replicator(settings_for(server.conninfo(proxy.port()), "rig-a"), local.path(), "test");
   replicator.start();
   const std::int64_t id = writer.start("E10", "L8");
@@ -207,7 +195,7 @@ TEST(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
   expect_exact_copy(server, local, "rig-a", id);
 }
 
-TEST(LabReplication, APasswordFileOthersMayReadIsRefusedByName) {
+TEST(LabArchivePassword, AFileOthersMayReadIsRefusedByName) {
   testing::ScratchDir dir("lab-password");
   const std::string file = dir.file("lab.password");
   std::ofstream(file) << "s3cret\n";
@@ -226,20 +214,17 @@ TEST(LabReplication, APasswordFileOthersMayReadIsRefusedByName) {
   EXPECT_EQ(params.back(), (std::pair<std::string, std::string>{"password", "s3cret"}));
 }
 
-TEST(LabReplication, RunsOfSeveralRigsAreFoundByRigEyeLotDateAndMetadata) {
-  testing::ScratchDir dir("lab-filter");
-  testing::PgTestServer server;
-  PgConnection db(server.conninfo());
-  create_or_migrate_lab_schema(db);
+TEST_F(LabReplication, RunsOfSeveralRigsAreFoundByRigEyeLotDateAndMetadata) {
+  PgConnection db = lab();
   for (const std::string rig : {"rig-a", "rig-b"}) {
-    archive::Archive local(dir.file(rig + ".sqlite"));
-    testing::LocalRunWriter writer(local);
+    archive::Archive rig_archive(dir.file(rig + ".sqlite"));
+    testing::LocalRunWriter rig_writer(rig_archive);
     for (const std::string lot : {"L1", "L2"}) {
-      const std::int64_t id = writer.start("E-" + rig + lot, lot, rig == "rig-a" ? "ann" : "bob");
-      writer.append(id, 50);
-      writer.finish(id);
+      const std::int64_t id = rig_writer.start("E-" + rig + lot, lot, rig == "rig-a" ? "ann" : "bob");
+      rig_writer.append(id, 50);
+      rig_writer.finish(id);
     }
-    RunShipper(local.path(), rig, "test").ship_pass(db, 100000);
+    RunShipper(rig_archive.path(), rig, "test").ship_pass(db, 100000);
   }
   LabRunReader reader(server.conninfo());
   auto count = [&reader](const std::vector<std::string>& filters) {
