@@ -35,6 +35,7 @@ RunShipper::RunShipper(std::string sqlite_path, std::string rig_id, std::string 
       local_(sqlite_path_, true) {}
 
 void RunShipper::forget_server_state() {
+  months_ready_.clear();  // a restored server may lack a partition
   server_loaded_ = false;  // the last known marks still estimate the backlog meanwhile
   session_ready_ = false;
 }
@@ -87,7 +88,11 @@ std::int64_t RunShipper::ship_pass(PgConnection& db, std::int64_t max_samples) {
 std::int64_t RunShipper::ship_run(PgConnection& db, const LocalRun& run, std::int64_t max_samples) {
   const auto known = server_.find(run.uuid);
   Watermark mark = known == server_.end() ? Watermark{} : known->second;
-  if (mark.outcome.empty()) ensure_samples_partition(db, run.created_at);
+  const std::string month = run.created_at.substr(0, 7);
+  if (mark.outcome.empty() && months_ready_.count(month) == 0) {
+    ensure_samples_partition(db, run.created_at);
+    months_ready_.insert(month);
+  }
   PgTransaction tx(db);
   mark = upsert_run(db, run);  // locks the run's row: the watermark read is the one to extend
   if (mark.new_on_server && run.source != "rig") copy_channels(db, run);

@@ -69,6 +69,7 @@ class RunShipper {
   archive::Database local_;
   std::map<std::string, Watermark> server_;  // by run uuid
   std::set<std::string> complete_;           // runs final and fully on the server
+  std::set<std::string> months_ready_;       // "YYYY-MM" whose samples partition exists
   bool server_loaded_ = false;
   bool session_ready_ = false;
 };
