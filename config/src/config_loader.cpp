@@ -148,6 +148,7 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
   }
   check_allowed_origins(c.api.allowed_origins, fail);
   check_bind_address(c.api.bind, fail);
+  check_lab_archive(c.lab_archive, fail);
   const bool loopback = c.api.bind == "127.0.0.1" || c.api.bind == "::1";
   if (!loopback && c.api.token_file.empty()) {
     fail("key 'api.bind' = \"" + c.api.bind + "\" is not loopback: 'api.token_file' is required");

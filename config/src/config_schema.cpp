@@ -171,6 +171,7 @@ const std::vector<ConfigField>& config_fields() {
     add_daq_fields(f);
     add_io_fields(f);
     add_service_fields(f);
+    add_lab_archive_fields(f);
     return f;
   }();
   return kFields;

@@ -42,6 +42,7 @@ struct ApiContext {
   RequestGuard guard{"", ""};  // CSRF / DNS-rebinding checks (request_guard.hpp)
   ApiCounters counters;
   std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
+  std::function<std::string()> lab_archive_status;  // JSON object when [lab_archive] is on (status "lab_archive")
 };
 
 }  // namespace rig::api

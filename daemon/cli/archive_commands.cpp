@@ -5,12 +5,15 @@
 #include <iostream>
 
 #include "archive.hpp"
+#include "lab_commands.hpp"
+#include "lab_source.hpp"
 #include "run_csv.hpp"
 
 namespace rig::cli {
 namespace {
 
 struct ExportOptions {
+  std::vector<std::string> source;  // a run id, or pg:CONNINFO [key=value...]
   std::int64_t run_id = 0;
   bool csv = false;
   std::string output;
@@ -47,10 +50,19 @@ int import_runs(const CliContext& c, const std::vector<std::string>& files) {
 void add_archive_commands(CLI::App& app, CliContext& c, int& exit_code) {
   auto e = std::make_shared<ExportOptions>();
   CLI::App* exp = app.add_subcommand("export", "write an archived run as run-CSV");
-  exp->add_option("run", e->run_id, "run id")->required();
+  exp->add_option("run", e->source, "run id, or pg:CONNINFO [key=value...] (the lab archive; several runs: -o FOLDER)")->required();
   exp->add_flag("--csv", e->csv, "run-CSV format (the only format)");
   exp->add_option("-o,--output", e->output, "file to write (default: standard output)");
-  exp->callback([&c, &exit_code, e] { exit_code = export_run(c, *e); });
+  exp->callback([&c, &exit_code, e] {
+    if (is_lab_source(e->source[0])) {
+      exit_code = export_lab_runs(e->source, e->output);
+      return;
+    }
+    if (e->source.size() != 1) throw CLI::ValidationError("run", "give one run id");
+    if (!CLI::detail::lexical_cast(e->source[0], e->run_id)) throw CLI::ValidationError("run", e->source[0] + ": not a run id");
+    exit_code = export_run(c, *e);
+  });
+  add_lab_filter_options(exp);
   auto files = std::make_shared<std::vector<std::string>>();
   CLI::App* imp = app.add_subcommand("import", "read run-CSV files (ours or other DAQs') into the archive");
   imp->add_option("files", *files, "run-CSV files")->required()->check(CLI::ExistingFile);

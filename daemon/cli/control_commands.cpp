@@ -8,6 +8,7 @@
 #include <iostream>
 #include <thread>
 
+#include "lab_commands.hpp"
 #include "rig/proto/messages.hpp"
 
 namespace rig::cli {
@@ -39,6 +40,7 @@ int show_status(const CliContext& c) {
                             fixed(l["jitter_p50_us"], 0) + "/" + fixed(l["jitter_p99_us"], 0) + "/" + fixed(l["jitter_max_us"], 0) +
                             " us, overruns " + std::to_string(l["overruns"].get<std::int64_t>())},
                {"model", s["model_file"]}});
+  if (s.contains("lab_archive")) print_pairs({{"lab archive", describe_lab_archive_status(s["lab_archive"])}});
   return 0;
 }
 
@@ -227,7 +229,9 @@ void add_control_commands(CLI::App& app, CliContext& c, int& exit_code) {
            {"estop", "software e-stop (latched until reset)"}, {"reset", "leave Fault or EStop (home again afterwards)"}}) {
     app.add_subcommand(name, help)->callback([&c, &exit_code, n = name] { exit_code = send_command(c, n); });
   }
-  app.add_subcommand("runs", "list the archived runs")->callback([&] { exit_code = list_runs(c); });
+  CLI::App* runs = app.add_subcommand("runs", "list the archived runs (pg:CONNINFO: every rig's, from the lab archive)");
+  auto lab = add_lab_runs_options(runs);
+  runs->callback([&c, &exit_code, lab] { exit_code = lab->given() ? list_lab_runs(c, *lab) : list_runs(c); });
   auto options = std::make_shared<RunOptions>();
   for (const char* name : {"run", "arm"}) {
     const bool start = std::string(name) == "run";

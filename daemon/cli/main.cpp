@@ -9,6 +9,7 @@
 #include "control_commands.hpp"
 #include "demo_command.hpp"
 #include "haptic_command.hpp"
+#include "lab_commands.hpp"
 #include "model_commands.hpp"
 #include "sim_commands.hpp"
 
@@ -33,6 +34,7 @@ int main(int argc, char** argv) {
   rig::cli::add_model_commands(app, context, exit_code);
   rig::cli::add_haptic_command(app, context, exit_code);
   rig::cli::add_sim_commands(app, context, exit_code);
+  rig::cli::add_lab_archive_commands(app, context, exit_code);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -17,6 +17,7 @@
 #include "residual_explainer.hpp"
 #include "report/lab_views.hpp"
 #include "report/report_file.hpp"
+#include "lab_source.hpp"
 #include "run_loader.hpp"
 
 namespace rig::cli {
@@ -263,7 +264,8 @@ void add_model_commands(CLI::App& app, CliContext& c, int& exit_code) {
   lint_cmd->callback([&c, &exit_code, lint_file] { exit_code = lint(c, *lint_file); });
   auto o = std::make_shared<LabOptions>();
   auto common = [&o](CLI::App* cmd) {
-    cmd->add_option("paths", o->paths, "run-CSV files, folders of them, or archive run ids")->required();
+    cmd->add_option("paths", o->paths, "run-CSV files, folders of them, archive run ids, or pg:CONNINFO [key=value...]")->required();
+    add_lab_filter_options(cmd);
     cmd->add_option("--model", o->model, "model file (default: paper-interpreted.toml)");
   };
   CLI::App* cmp = model->add_subcommand("compare", "model against measurements: by run, phase, depth, covariate; spectra");

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "archive.hpp"
+#include "lab_source.hpp"
 #include "run_csv.hpp"
 
 namespace rig::cli {
@@ -22,7 +23,12 @@ std::string executable_dir() {
 std::vector<model::RunData> load_runs(const std::vector<std::string>& paths, const std::string& archive_path) {
   std::vector<model::RunData> runs;
   std::unique_ptr<archive::Archive> archive;
-  for (const std::string& path : paths) {
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const std::string& path = paths[i];
+    if (is_lab_source(path)) {
+      for (auto& run : load_lab_runs(parse_lab_source(paths, i))) runs.push_back(std::move(run));
+      continue;
+    }
     const bool run_id = !path.empty() && std::all_of(path.begin(), path.end(), ::isdigit);
     if (run_id && !std::filesystem::exists(path)) {
       if (!archive) archive = std::make_unique<archive::Archive>(archive_path, true);

@@ -1,5 +1,6 @@
 #pragma once
-// Runs named on the command line: a run-CSV file, a folder of them, or an archive run id.
+// Runs named on the command line: a run-CSV file, a folder of them, an archive run id, or a
+// lab archive source (pg:CONNINFO [key=value...], lab_source.hpp).
 #include <string>
 #include <vector>
 

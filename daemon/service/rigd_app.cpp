@@ -11,6 +11,7 @@
 #include "haptic_service.hpp"
 #include "model_lint.hpp"
 #include "lab_worker.hpp"
+#include "lab_replicator.hpp"
 #include "camera/aravis_camera.hpp"
 #include "camera/v4l2_camera.hpp"
 #include "gpio/gpio_digital_io.hpp"
@@ -55,6 +56,7 @@ struct RigdApp::Parts {
   std::unique_ptr<CameraService> camera;
   std::unique_ptr<LabWorker> lab;
   std::unique_ptr<HapticService> haptic;
+  std::unique_ptr<lab_archive::LabReplicator> lab_replicator;  // [lab_archive] on: store and forward
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
@@ -166,6 +168,7 @@ void RigdApp::start_services() {
     parts_->hub->add_sink(parts_->udp.get());
   }
   start_camera();
+  start_lab_archive();
   parts_->hub->start();
   parts_->api->start();
 }
@@ -217,6 +220,15 @@ void RigdApp::start() {
   start_services();
 }
 
+void RigdApp::start_lab_archive() {
+  if (!config_.lab_archive.enabled) return;
+  parts_->lab_replicator = std::make_unique<lab_archive::LabReplicator>(config_.lab_archive, config_.archive.path, software_version());
+  parts_->lab_replicator->start();  // throws naming the password file if it is unsafe
+  lab_archive::LabReplicator* replicator = parts_->lab_replicator.get();
+  parts_->api_context.lab_archive_status = [replicator] { return lab_archive::status_json(replicator->status()); };
+  spdlog::info("lab archive: replicating as rig {}", replicator->status().rig_id);
+}
+
 bool RigdApp::loop_alive() {
   if (!parts_->channels) return false;
   const std::uint64_t cycles = parts_->channels->counters.cycles.load();
@@ -233,6 +245,7 @@ void RigdApp::shutdown() {
     spdlog::info("RT loop stopped, motor off");
   }
   if (parts_->haptic) parts_->haptic->stop();
+  if (parts_->lab_replicator) parts_->lab_replicator->stop();
   if (parts_->camera) parts_->camera->stop();
   if (parts_->hub) parts_->hub->stop();
   if (parts_->api) parts_->api->stop();

@@ -30,6 +30,7 @@ class RigdApp {
   void start_loop();
   void start_services();
   void start_camera();
+  void start_lab_archive();
 
   config::RigdConfig config_;
   std::unique_ptr<Parts> parts_;

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "lab_archive_section.hpp"
 #include "loop_settings.hpp"
 #include "modbus/modbus_daq.hpp"
 
@@ -88,6 +89,7 @@ struct RigdConfig {
   ApiSection api;
   StreamSection stream;
   ModelSection model;
+  LabArchiveSection lab_archive;
   std::string source_path;        // file it was read from
   std::string hash;               // FNV-1a of the file and the overrides, hex
 };

@@ -1,0 +1,65 @@
+// rigd's store and forward end to end: rig-sim + rigd with [lab_archive] on, a throwaway
+// PostgreSQL 15 behind a proxy the test cuts. The lab is cut off while a run records, rigd
+// is killed with a backlog, the network comes back, rigd restarts: every sample of the run
+// reaches the lab once. Real-time processes: label e2e, SERIAL.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <signal.h>
+
+#include "archive.hpp"
+#include "command.hpp"
+#include "lab_run_reader.hpp"
+#include "local_run_writer.hpp"
+#include "pg_test_server.hpp"
+#include "rig_processes.hpp"
+#include "tcp_cut_proxy.hpp"
+
+namespace rig::lab_archive {
+namespace {
+
+using nlohmann::json;
+
+const std::string kRun = R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":8,"meta":{"eye_lot":"L7"}})";
+
+json lab_status(const testing::RigProcesses& rig) { return rig.status().value("lab_archive", json::object()); }
+
+TEST(LabArchiveRigd, ARigdKilledWithABacklogDuringANetworkCutResumesAndTheLabGetsEverySampleOnce) {
+  testing::ScratchDir dir("lab-rigd");
+  testing::PgTestServer server;
+  testing::TcpCutProxy proxy(server.port());
+  testing::RigProcesses rig(dir, {}, {"lab_archive.enabled=true", "lab_archive.conninfo=\"" + server.conninfo(proxy.port()) + "\"",
+                                      "lab_archive.rig_id=\"rig-e2e\"", "lab_archive.sslmode=\"disable\"", "lab_archive.retry_max_ms=500"});
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["lab_archive"]["connected"] == true; }, 20)) << rig.status().dump();
+  std::string why;
+  ASSERT_TRUE(rig.prepare(why)) << why;
+  proxy.cut();
+  ASSERT_EQ(rig.api().post("/api/run", kRun).status, 200);
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 21.0; }, 30)) << rig.status().dump();
+  ASSERT_TRUE(rig.wait([](const json& s) { return s["lab_archive"]["backlog_samples"] > 500; }, 10)) << rig.status().dump();
+  EXPECT_EQ(lab_status(rig)["connected"], false);
+  const auto status_line = testing::run_command(testing::bin("rig") + " --api " + rig.url() + " status");
+  EXPECT_NE(status_line.output.find("NOT CONNECTED as rig-e2e, backlog 1 runs"), std::string::npos) << status_line.output;
+  kill(rig.rigd().pid(), SIGKILL);
+  usleep(300000);
+  proxy.restore();
+  rig.start_rigd();  // marks the run interrupted, then ships what the lab is missing
+  ASSERT_TRUE(rig.wait([](const json& s) {
+    const json& lab = s["lab_archive"];
+    return lab["connected"] == true && lab["backlog_known"] == true && lab["backlog_samples"] == 0 && lab["backlog_runs"] == 0;
+  }, 30)) << rig.status().dump();
+  archive::Archive local(rig.archive_path(), true);
+  const auto run = local.find_run(1);
+  ASSERT_TRUE(run.has_value());
+  EXPECT_EQ(run->outcome, "interrupted");
+  EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples"),
+            std::to_string(run->samples) + " " + std::to_string(run->samples));
+  EXPECT_EQ(server.query("SELECT rig_id || ' ' || outcome || ' ' || eye_lot FROM runs"), "rig-e2e interrupted L7");
+  LabRunReader reader(server.conninfo());
+  const auto rows = reader.list_runs({});
+  ASSERT_EQ(rows.size(), 1U);
+  EXPECT_EQ(testing::run_checksum(reader.load_run(rows[0].uuid)), testing::run_checksum(local.load_run(1)));
+}
+
+}  // namespace
+}  // namespace rig::lab_archive
