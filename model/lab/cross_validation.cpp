@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "eye_variation.hpp"
+
 namespace rig::model {
 namespace {
 
@@ -18,20 +20,41 @@ double lag1(const std::vector<double>& r) {
   return den > 0.0 ? std::clamp(num / den, 0.0, 0.99) : 0.0;
 }
 
-void add_run(CvResult& out, std::vector<double> residual) {
+double sum_of_squares(const std::vector<double>& r) {
   double sse = 0.0;
-  for (const double r : residual) sse += r * r;
-  out.run_sse.push_back(sse);
+  for (const double e : r) sse += e * e;
+  return sse;
+}
+
+void add_run(CvResult& out, std::vector<double> residual) {
+  out.run_sse.push_back(sum_of_squares(residual));
   out.run_n.push_back(residual.size());
   out.run_rho.push_back(lag1(residual));
   out.residuals.push_back(std::move(residual));
 }
 
-void finish(CvResult& out) {
+double pooled_rmse(const std::vector<double>& run_sse, const std::vector<std::size_t>& run_n) {
   double sse = 0.0;
   std::size_t n = 0;
-  for (std::size_t r = 0; r < out.run_sse.size(); ++r) sse += out.run_sse[r], n += out.run_n[r];
-  out.rmse_N = n > 0 ? std::sqrt(sse / static_cast<double>(n)) : 0.0;
+  for (std::size_t r = 0; r < run_sse.size() && r < run_n.size(); ++r) sse += run_sse[r], n += run_n[r];
+  return n > 0 ? std::sqrt(sse / static_cast<double>(n)) : 0.0;
+}
+
+void finish(CvResult& out) {
+  out.rmse_N = pooled_rmse(out.run_sse, out.run_n);
+  if (out.own_eye_run_sse.empty()) {  // one run: no eyes to tell apart, both channels are one
+    out.own_eye_run_sse = out.run_sse;
+    out.own_eye_run_rho = out.run_rho;
+  }
+  out.own_eye_rmse_N = pooled_rmse(out.own_eye_run_sse, out.run_n);
+}
+
+// The held-out run's residuals with its own eye (the within-eye channel).
+std::vector<double> own_eye_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params) {
+  Eigen::VectorXd beta;
+  if (predictor.linear_columns() > 0) Fitter::residuals(predictor, run, params, run.fit_rows, &beta);
+  const EyeParams eye = own_eye(predictor, run, params, beta);
+  return held_out_residuals(predictor, run, params, &eye);
 }
 
 std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
@@ -71,11 +94,12 @@ CvResult within_run(const Predictor& predictor, const PreparedRun& run, const St
 
 }  // namespace
 
-std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params) {
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params,
+                                       const EyeParams* eye) {
   std::vector<double> prediction;
   Eigen::MatrixXd X;
   const bool linear = predictor.linear_columns() > 0;
-  predictor.evaluate(run, params, run.analysed, prediction, linear ? &X : nullptr);
+  predictor.evaluate(run, params, run.analysed, prediction, linear ? &X : nullptr, nullptr, eye);
   const std::size_t n = run.analysed.size();
   std::vector<double> residual(n);
   for (std::size_t k = 0; k < n; ++k) residual[k] = run.data->force_N[run.analysed[k]] - prediction[k];
@@ -104,6 +128,7 @@ CvResult cross_validate(const Predictor& predictor, const std::vector<const Prep
   out.full = Fitter(predictor, runs).fit(start_for(runs));
   const std::size_t folds = std::min<std::size_t>(static_cast<std::size_t>(max_folds), runs.size());
   std::vector<std::vector<double>> residuals(runs.size());
+  std::vector<double> own_sse(runs.size()), own_rho(runs.size());
   for (std::size_t f = 0; f < folds; ++f) {
     std::vector<const PreparedRun*> train;
     for (std::size_t r = 0; r < runs.size(); ++r) {
@@ -111,9 +136,16 @@ CvResult cross_validate(const Predictor& predictor, const std::vector<const Prep
     }
     out.folds.push_back(Fitter(predictor, train).fit(start_for(train)));
     const FitResult& fit = out.folds.back();
-    for (std::size_t r = f; r < runs.size(); r += folds) residuals[r] = held_out_residuals(predictor, *runs[r], fit.params);
+    for (std::size_t r = f; r < runs.size(); r += folds) {
+      residuals[r] = held_out_residuals(predictor, *runs[r], fit.params);
+      const std::vector<double> own = own_eye_residuals(predictor, *runs[r], fit.params);
+      own_sse[r] = sum_of_squares(own);
+      own_rho[r] = lag1(own);
+    }
   }
   for (auto& residual : residuals) add_run(out, std::move(residual));
+  out.own_eye_run_sse = std::move(own_sse);
+  out.own_eye_run_rho = std::move(own_rho);
   finish(out);
   return out;
 }

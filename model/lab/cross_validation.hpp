@@ -23,6 +23,9 @@ struct CvResult {
   std::vector<std::size_t> run_n;
   std::vector<double> run_rho;                 // lag-1 autocorrelation of the CV residuals
   std::vector<std::vector<double>> residuals;  // per run, over its analysed samples
+  double own_eye_rmse_N = 0.0;                 // the within-eye channel (multi-run CV only, else = rmse_N)
+  std::vector<double> own_eye_run_sse;
+  std::vector<double> own_eye_run_rho;
   FitResult full;                              // the fit on all runs
   std::vector<FitResult> folds;                // each fold's fit on its training runs
 };
@@ -33,6 +36,8 @@ CvResult cross_validate(const Predictor& predictor, const std::vector<const Prep
                         int max_folds = 5);
 
 // Residuals of a held-out run: shared parameters given, per-run coefficients by blocked CV.
-std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params);
+// `eye` null: the population model (an unseen eye).
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params,
+                                       const EyeParams* eye = nullptr);
 
 }  // namespace rig::model

@@ -30,6 +30,12 @@ struct CandidateResult {
   double cv_rmse_N = 0.0;
   double gain_pct = 0.0;
   double runs_improved = 0.0;  // fraction of held-out runs it helped
+  // The within-eye channel (cross_validation.hpp): each held-out run with its own eye.
+  double own_eye_cv_rmse_N = 0.0;
+  double own_eye_gain_pct = 0.0;
+  double own_eye_runs_improved = 0.0;
+  std::string channel;         // where it is significant: population | own eye | both | ""
+  double rank_gain_pct = 0.0;  // its gain on the channel it is significant in (the larger); ranks significant ones
   double delta_bic = 0.0;      // with the effective sample count; < 0 favours the candidate
   double n_effective = 0.0;
   bool significant = false;
@@ -51,6 +57,7 @@ struct NoiseFloor {
 
 struct Diagnosis {
   double baseline_cv_rmse_N = 0.0;
+  double baseline_own_eye_cv_rmse_N = 0.0;  // within-eye channel; its floor is floor.measurement_N
   // The floor of the model the verdict leaves: baseline + the named effect, else the
   // baseline (an effect that varies from run to run - IOP, velocity, wear - looks like eye
   // variation to the baseline and inflates its floor).

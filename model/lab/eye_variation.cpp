@@ -159,6 +159,10 @@ EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const Pr
   return out;
 }
 
+EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta) {
+  return estimate_run(predictor, run, p, beta).eye;
+}
+
 double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
                        const EyeSpread& spread) {
   if (!spread.any()) return 0.0;

@@ -33,6 +33,11 @@ EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const Pr
 // from `spread` (3-point Gauss-Hermite in the puncture shift, exact in the scales) of
 // (prediction of that eye - population prediction)^2, averaged over the runs' fit rows and
 // weighted by each run's analysed sample count.
+// One run's own eye, unpenalised (no population to shrink toward): its tissue-force scales
+// and puncture shift fitted to its own fit rows, given the shared parameters and its
+// instrument coefficients `beta` (empty if none). For the within-eye CV channel.
+EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta);
+
 double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
                        const EyeSpread& spread);
 

@@ -28,7 +28,8 @@ nlohmann::json to_json(const Diagnosis& d) {
   for (const CandidateResult& c : d.candidates) {
     nlohmann::json j = {{"effect", c.effect}, {"applicable", c.applicable}};
     if (c.applicable) {
-      j.update({{"cv_rmse_N", c.cv_rmse_N}, {"gain_pct", c.gain_pct}, {"significant", c.significant},
+      j.update({{"cv_rmse_N", c.cv_rmse_N}, {"gain_pct", c.gain_pct}, {"own_eye_cv_rmse_N", c.own_eye_cv_rmse_N},
+                {"own_eye_gain_pct", c.own_eye_gain_pct}, {"channel", c.channel}, {"significant", c.significant},
                 {"evidence", c.evidence}, {"runs_improved", c.runs_improved}, {"delta_bic", c.delta_bic},
                 {"n_effective", c.n_effective}, {"where", c.where}, {"floor_N", c.floor_N},
                 {"explained_pct", c.explained_pct}, {"converged", c.converged}, {"left_start", c.left_start}});
@@ -42,7 +43,9 @@ nlohmann::json to_json(const Diagnosis& d) {
     where.push_back({{"view", b.view}, {"bin", b.bin}, {"share", b.share}, {"mean_residual_N", b.mean_residual_N}});
   }
   nlohmann::json result = {
-      {"baseline", {{"cv_rmse_N", d.baseline_cv_rmse_N}, {"noise_floor_N", d.noise_floor_N}, {"effects", d.base_effects}}},
+      {"baseline",
+       {{"cv_rmse_N", d.baseline_cv_rmse_N}, {"own_eye_cv_rmse_N", d.baseline_own_eye_cv_rmse_N}, {"noise_floor_N", d.noise_floor_N},
+        {"effects", d.base_effects}}},
       {"noise_floor", {{"total_N", d.floor.total_N}, {"measurement_N", d.floor.measurement_N},
                        {"eye_variation_N", d.floor.eye_variation_N}, {"eye_spread", to_json(d.floor.eye_spread)},
                        {"definition", "sqrt(measurement^2 + eye_variation^2): white noise of the force channel plus the RMS "

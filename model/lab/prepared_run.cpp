@@ -81,6 +81,23 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   return p;
 }
 
+RowBudget row_budget(std::size_t runs, std::size_t samples) {
+  constexpr std::size_t kFitRows = 24000, kMinFitRows = 200, kMaxFitRows = 800, kScored = 400000;
+  RowBudget b;
+  runs = std::max<std::size_t>(runs, 1);
+  b.fit_rows_per_run = std::clamp(kFitRows / runs, kMinFitRows, kMaxFitRows);
+  if (samples > kScored) b.scored_per_run = kScored / runs;
+  return b;
+}
+
+void thin_analysed(PreparedRun& run, std::size_t max_rows) {
+  if (max_rows == 0 || run.analysed.size() <= max_rows) return;
+  std::vector<std::size_t> kept;
+  kept.reserve(max_rows);
+  for (std::size_t k = 0; k < max_rows; ++k) kept.push_back(run.analysed[k * run.analysed.size() / max_rows]);
+  run.analysed = std::move(kept);
+}
+
 void add_run_order(std::vector<PreparedRun>& runs) {
   std::map<std::string, std::vector<std::pair<std::string, PreparedRun*>>> sessions;
   for (PreparedRun& run : runs) {

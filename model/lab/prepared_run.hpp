@@ -35,6 +35,18 @@ struct PreparedRun {
 
 PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
 
+// Fit rows and scored samples for a set of `runs` runs holding `samples` analysed samples
+// in all: up to 800 fit rows per run while the set is small, fewer (not under 200) beyond
+// 30 runs, so that a fit sees at most ~24,000 rows; every analysed sample is scored up to
+// 400,000 in all, beyond that evenly thinned (100 runs x 15,000 samples: 4,000 per run).
+struct RowBudget {
+  std::size_t fit_rows_per_run = 800;
+  std::size_t scored_per_run = 0;  // 0: every analysed sample
+};
+RowBudget row_budget(std::size_t runs, std::size_t samples);
+// Keep at most `max_rows` evenly spaced analysed samples (0: all).
+void thin_analysed(PreparedRun& run, std::size_t max_rows);
+
 // Run order within a session as the covariate `run_order` (1, 2, ... by `started_at`; a
 // session is the runs sharing a `session` metadata value, else the same date), so that
 // wear across a session shows. Left out unless every run has `started_at`.

@@ -48,6 +48,14 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
   s.baseline_N = d.baseline_cv_rmse_N;
   s.floor_N = d.noise_floor_N;
   s.after_N = candidate_rmse(d, d.verdict);
+  s.own_eye_N = d.baseline_own_eye_cv_rmse_N;
+  s.measurement_N = d.floor.measurement_N;
+  if (!d.candidates.empty()) s.best = d.candidates.front().effect;
+  for (const auto& c : d.candidates) {  // the largest gains any candidate reached (calibration)
+    if (!c.applicable) continue;
+    s.best_gain_pct = std::max(s.best_gain_pct, c.gain_pct);
+    s.best_own_eye_gain_pct = std::max(s.best_own_eye_gain_pct, c.own_eye_gain_pct);
+  }
   s.fit_close = s.after_N <= s.floor_N + kCloseShare * std::max(0.0, s.baseline_N - s.floor_N);
   if (draw.kind != DrawKind::kMixture) {
     s.correct = s.verdict == draw.expected.front();
@@ -107,6 +115,9 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
                    static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
                    s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then " + s.second_verdict + " ").c_str(),
                    s.correct ? "ok" : "MISS", s.generate_s, s.diagnose_s);
+      std::fprintf(stderr, "     baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
+                   s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
+                   1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
     }
     z.draws.push_back(std::move(s));
   }

@@ -25,6 +25,11 @@ struct DrawScore {
   bool correct = false;           // the verdict (both, for mixtures) is what was expected
   double baseline_N = 0.0, floor_N = 0.0, after_N = 0.0;  // CV RMSE before/after the verdict, floor
   bool fit_close = false;         // after <= floor + 25 % of (baseline - floor)
+  // For --verbose and calibration: the within-eye baseline against the measurement noise,
+  // the candidate ranked first, and the largest gain any candidate reached on each channel.
+  double own_eye_N = 0.0, measurement_N = 0.0;
+  std::string best;
+  double best_gain_pct = 0.0, best_own_eye_gain_pct = 0.0;
   double generate_s = 0.0, diagnose_s = 0.0;
 };
 

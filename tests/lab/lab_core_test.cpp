@@ -71,6 +71,18 @@ TEST(HonestCrossValidation, AFoldsFitIsBitIdenticalWhateverItsHeldOutRunContains
   EXPECT_NE(before.run_sse[0], after.run_sse[0]);
 }
 
+TEST(EyeVariation, TheWithinEyeChannelTakesItOutOfTheHeldOutError) {
+  const auto data = runs(6, {}, 1.0);  // the simulator's default spread of eyes, no effect
+  const CvResult cv = cross_validate_with(data, {});
+  std::vector<PreparedRun> prepared;
+  for (const RunData& r : data) prepared.push_back(prepare_run(r, 200));
+  const double noise = noise_floor(pointers(prepared));
+  std::printf("eyes differ: population CV %.5f N, within eyes %.5f N, measurement noise %.5f N\n", cv.rmse_N, cv.own_eye_rmse_N, noise);
+  ASSERT_EQ(cv.own_eye_run_sse.size(), data.size());
+  EXPECT_LT(cv.own_eye_rmse_N, 0.6 * cv.rmse_N) << "each held-out run's own eye removes most of the eye-to-eye error";
+  EXPECT_LT(cv.own_eye_rmse_N, 2.5 * noise) << "within eyes, a clean baseline is near the measurement noise";
+}
+
 TEST(EyeVariation, IsNotReportedAsAnEffectAndRaisesTheFloor) {
   const auto data = runs(9, {}, 1.0);  // the simulator's default spread of eyes
   DiagnoseOptions o;
