@@ -3,6 +3,7 @@
 namespace rig::drivers {
 
 IoStatus SimDaq::read(AnalogFrame& frame) noexcept {
+  if (read_clock_ != nullptr && read_duration_ns_ > 0) read_clock_->stall(read_duration_ns_);
   if (injected_ != IoStatus::kOk) return injected_;
   frame = physics_->analog_frame();
   return IoStatus::kOk;

@@ -6,6 +6,7 @@
 #include "rig/drivers/analog_input.hpp"
 #include "rig/drivers/digital_io.hpp"
 #include "rig/sim/rig_physics.hpp"
+#include "virtual_clock.hpp"
 
 namespace rig::drivers {
 
@@ -20,11 +21,19 @@ class SimDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
 
   // Every call fails with this status until cleared with kOk (link loss, time-outs, garbage).
   void inject(IoStatus failure) noexcept { injected_ = failure; }
+  // Every analog read takes this long on `clock` (a slow exchange, or the loop held off the
+  // CPU while it waits for the reply) until set back to 0 [ns].
+  void take_per_read(VirtualClock& clock, std::int64_t duration_ns) noexcept {
+    read_clock_ = &clock;
+    read_duration_ns_ = duration_ns;
+  }
 
  private:
   sim::RigPhysics* physics_;
   IoStatus injected_ = IoStatus::kOk;
   DigitalOutputs staged_{};
+  VirtualClock* read_clock_ = nullptr;
+  std::int64_t read_duration_ns_ = 0;
 };
 
 }  // namespace rig::drivers

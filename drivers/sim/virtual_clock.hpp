@@ -13,6 +13,8 @@ class VirtualClock final : public LoopClock {
   void sleep_until(std::int64_t deadline_ns) noexcept override;
   // Lets a test delay the loop's next wake-up (a late wake-up / overrun) [ns].
   void add_wakeup_delay(std::int64_t delay_ns) noexcept { extra_delay_ns_ += delay_ns; }
+  // Time passes now, mid-cycle, as when the machine holds the loop off the CPU [ns].
+  void stall(std::int64_t duration_ns) noexcept { now_ns_ += duration_ns; }
 
  private:
   sim::RigPhysics* physics_;

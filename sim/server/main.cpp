@@ -86,6 +86,9 @@ int main(int argc, char** argv) {
     if (!options.rtu_device.empty()) std::cout << "rig-sim: Modbus RTU on " << options.rtu_device << std::endl;
     std::cout << "rig-sim: listening on " << options.bind << ":" << server.port() << std::endl;
     server.run(g_stop);
+    std::cout << "rig-sim: reply time " << server.reply_time().summary() << "; gap between replies "
+              << server.reply_gap().summary() << "; physics clock late " << server.physics_lateness().summary()
+              << std::endl;
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

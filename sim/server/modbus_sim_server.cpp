@@ -64,6 +64,12 @@ double ModbusSimServer::wall_time_s() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+namespace {
+std::int64_t steady_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+}  // namespace
+
 void ModbusSimServer::refresh_registers() {
   // The physics thread refreshes every 1 ms. A longer gap means rig-sim itself was off the
   // CPU (a busy test machine): the simulated world does not move on in it, or the DAQ's
@@ -203,7 +209,12 @@ ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
 
 void ModbusSimServer::serve_client(int fd, std::vector<int>& clients) {
   modbus_set_socket(ctx_.get(), fd);
+  const std::int64_t readable_ns = steady_ns();
   const Served served = serve_request(ctx_.get());
+  const std::int64_t replied_ns = steady_ns();
+  reply_time_.record(replied_ns - readable_ns);
+  if (last_reply_ns_ != 0) reply_gap_.record(replied_ns - last_reply_ns_);
+  last_reply_ns_ = replied_ns;
   if (served == Served::kLinkCut) return drop_all(clients);
   if (served == Served::kPeerGone) {
     close(fd);
@@ -227,6 +238,7 @@ void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
     const auto woke = std::chrono::steady_clock::now();
     if (next < woke) next = woke;  // after a stall: carry on from now, do not burst
     std::this_thread::sleep_until(next);
+    physics_lateness_.record(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - next).count());
     std::lock_guard lock(mutex_);
     refresh_registers();
     std::uint16_t& drop = mapping_->tab_registers[reg::sim_panel::kLinkDrop];

@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "latency_tally.hpp"
 #include "rig/sim/rig_physics.hpp"
 
 struct _modbus;
@@ -35,6 +36,11 @@ class ModbusSimServer {
 
   int port() const { return port_; }
   void run(const std::atomic<bool>& stop);  // serves until stop is set
+  // Where the time went (printed by rig-sim at exit): a request's time from readable socket
+  // to reply sent, the gap between two replies on one client, the physics clock's lateness.
+  const LatencyTally& reply_time() const { return reply_time_; }
+  const LatencyTally& reply_gap() const { return reply_gap_; }
+  const LatencyTally& physics_lateness() const { return physics_lateness_; }
 
  private:
   struct ModbusCloser {
@@ -68,6 +74,10 @@ class ModbusSimServer {
   std::uint16_t last_restart_ = 0;  // kRestartDaq, kTripWatchdog: act on each new value
   std::uint16_t last_trip_ = 0;
   double last_refresh_wall_s_ = 0.0;
+  LatencyTally reply_time_;
+  LatencyTally reply_gap_;
+  LatencyTally physics_lateness_;
+  std::int64_t last_reply_ns_ = 0;  // steady clock, server thread only
 };
 
 }  // namespace rig::sim
