@@ -73,7 +73,8 @@ for boot_no in $(seq 0 "$cuts"); do
     if [ "$in_progress" = 0 ]; then   # the run had ended (Done, Fault) before the cut
       accidental=$((accidental + 1)); echo "run $cut_run: state '$cut_state' at the cut, not counted"
     elif [ "${outcome:-missing}" != interrupted ]; then
-      echo "FAIL: run $cut_run (cut while $cut_state) is '${outcome:-missing}' after the restart, not interrupted"; failures=$((failures + 1))
+      echo "FAIL: run $cut_run (cut while $cut_state) is '${outcome:-missing}' after the restart, not interrupted"
+      echo "archive after boot $boot_no (id outcome samples first last):"; cat "$work/rows"; failures=$((failures + 1))
     elif [ "$count" -gt 0 ]; then
       [ $((last - first + 1)) -eq "$count" ] || { echo "FAIL: run $cut_run has a gap: $count samples in $first..$last"; failures=$((failures + 1)); }
       lost=$(( last_cycles - (last + 1) ))   # 1 ms per cycle; cycles as last seen before the cut
