@@ -12,7 +12,7 @@ limit_ms="$(sed -n 's/^flush_interval_ms *= *\([0-9]*\).*/\1/p' "$config")"
 here="$(cd "$(dirname "$0")" && pwd)"
 command -v qemu-system-x86_64 >/dev/null || { echo "SKIP: qemu-system-x86_64 is not installed"; exit 77; }
 [ -f "$cache/ready" ] || { echo "FAIL: $cache is not prepared (prepare_kernel.sh)"; exit 1; }
-work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"; trap 'kill -9 $qemu 2>/dev/null; rm -rf "$work"' EXIT
+work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"; trap 'kill -9 $qemu 2>/dev/null || true; rm -rf "$work"' EXIT
 qemu=""
 "$here/build_initramfs.sh" "$cache" "$work" "$here/scenario_power.sh" "virtio_pci virtio_blk ext4 crc32c_generic" "$@" "$(command -v sqlite3)"
 # rigd's config and model ride in a second cpio appended to the first (the kernel unpacks both).

@@ -11,13 +11,14 @@ export RIG_API=http://127.0.0.1:8080
 # The eye close to the home switch and fast homing, as in the durability test: every boot homes.
 rig-sim --port 1502 --surface-mm 12 > /tmp/rig-sim.log 2>&1 &
 # TCG emulation runs both processes several times slower than the hardware: the link and
-# overrun interlocks get room (the subject here is the archive, not the link).
+# overrun interlocks get room (the subject here is the archive, not the link); the overrun storm
+# is off (64 overruns can never fall within a 1-cycle window): TCG overruns whole stretches.
 rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
   --set 'model.file="/etc/rig/paper-interpreted.toml"' --set 'api.web_root="/tmp"' \
   --set motion.surface_mm=12 --set motion.park_mm=10 --set motion.homing_velocity_mm_s=10 \
   --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
   --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
-  --set safety.overrun_storm_window_cycles=64 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 > /tmp/rigd.log 2>&1 &
+  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 > /tmp/rigd.log 2>&1 &
 rigd=$!
 for i in $(seq 150); do rig status > /dev/null 2>&1 && break; kill -0 $rigd || break; sleep 0.2; done
 rig status > /dev/null || { cat /tmp/rigd.log /tmp/rig-sim.log; exit 1; }
