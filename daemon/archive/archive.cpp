@@ -36,7 +36,10 @@ Archive::Archive(const std::string& path, bool read_only) : db_(path, read_only)
     SchemaMigrations::check_readable(db_);
     return;
   }
-  db_.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=NORMAL; PRAGMA foreign_keys=ON;");
+  // synchronous=FULL: in WAL mode NORMAL syncs the log only at checkpoints, so a power cut
+  // rolled back commits rigd had acknowledged (a whole run row and its samples, found by
+  // kernel.power_cuts_*). FULL syncs the log at every commit: one fsync per recorder flush.
+  db_.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
   create_schema();
 }
 

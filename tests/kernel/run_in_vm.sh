@@ -9,32 +9,8 @@ cache="$1"; scenario="$2"; mods="$3"; shift 3
 here="$(cd "$(dirname "$0")" && pwd)"
 command -v qemu-system-x86_64 >/dev/null || { echo "SKIP: qemu-system-x86_64 is not installed"; exit 77; }
 [ -f "$cache/ready" ] || { echo "FAIL: $cache is not prepared (prepare_kernel.sh)"; exit 1; }
-kver="$(cat "$cache/KVER")"; kroot="$cache/kroot"
 work="$(mktemp -d "${TMPDIR:-/tmp}/rig-vm.XXXXXX")"; trap 'rm -rf "$work"' EXIT
-root="$work/root"
-mkdir -p "$root"/{bin,sbin,proc,sys,dev,tmp,etc,usr/bin,lib/modules/"$kver"}
-cp /bin/busybox "$root/bin/busybox"
-
-# Modules and their dependency closure, from the image's modules.dep.
-need=""
-for m in $mods; do
-  line="$(grep -E "/$m\.ko(\.[a-z]+)?:" "$kroot/lib/modules/$kver/modules.dep")" || { echo "FAIL: module $m not in the kernel image"; exit 1; }
-  need="$need ${line%%:*} ${line#*:}"
-done
-for f in $(echo "$need" | tr ' ' '\n' | sort -u); do
-  mkdir -p "$root/lib/modules/$kver/$(dirname "$f")"; cp "$kroot/lib/modules/$kver/$f" "$root/lib/modules/$kver/$f"
-done
-cp "$kroot/lib/modules/$kver"/modules.{order,builtin,builtin.modinfo} "$root/lib/modules/$kver/"
-depmod -b "$root" "$kver"
-
-# Programs and the shared libraries they load.
-for program in "$@"; do
-  [ -x "$program" ] || { echo "FAIL: $program is not built"; exit 1; }
-  cp "$program" "$root/usr/bin/"
-  for lib in $(ldd "$program" | grep -o '/[^ ]*'); do mkdir -p "$root$(dirname "$lib")"; cp -nL "$lib" "$root$lib"; done
-done
-cp "$here/vm_init.sh" "$root/init"; cp "$scenario" "$root/test.sh"; chmod +x "$root/init" "$root/test.sh"
-(cd "$root" && find . | cpio -o -H newc --quiet | gzip -1 > "$work/initrd.gz")
+"$here/build_initramfs.sh" "$cache" "$work" "$scenario" "$mods" "$@"
 
 accel=tcg
 [ -w /dev/kvm ] && [ "${RIG_TRY_KVM:-0}" = 1 ] && accel=kvm   # KVM is broken on the CI VMs

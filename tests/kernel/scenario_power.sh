@@ -1,0 +1,44 @@
+# Inside the VM (driven by power_cut.sh): mount the archive disk (ext4 replays its journal),
+# start rig-sim and rigd (which marks the run cut by the last power loss `interrupted`), print
+# the archive's state, then - unless this is the final check boot (rigmode=check on the kernel
+# command line) - home, tare, start a run and print the loop's cycle count until the power goes.
+set -u
+for m in virtio_pci virtio_blk crc32c_generic ext4; do modprobe $m || exit 1; done
+ip link set lo up
+mkdir -p /mnt/rig && mount -t ext4 /dev/vda /mnt/rig || exit 1
+archive=/mnt/rig/archive.sqlite
+export RIG_API=http://127.0.0.1:8080
+# The eye close to the home switch and fast homing, as in the durability test: every boot homes.
+# rig-sim on its own vCPU above rigd's SCHED_FIFO loop (80): its replies are due within 950 us.
+taskset 2 chrt -f 81 rig-sim --port 1502 --surface-mm 12 > /tmp/rig-sim.log 2>&1 &
+# TCG emulation runs both processes several times slower than the hardware: the link and
+# overrun interlocks get room (the subject here is the archive, not the link); the overrun storm
+# is off (64 overruns can never fall within a 1-cycle window): TCG overruns whole stretches.
+rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
+  --set 'model.file="/etc/rig/paper-interpreted.toml"' --set 'api.web_root="/tmp"' \
+  --set motion.surface_mm=12 --set motion.park_mm=10 --set motion.homing_velocity_mm_s=10 \
+  --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
+  --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
+  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 > /tmp/rigd.log 2>&1 &
+rigd=$!
+for i in $(seq 150); do rig status > /dev/null 2>&1 && break; kill -0 $rigd || break; sleep 0.2; done
+rig status > /dev/null || { cat /tmp/rigd.log /tmp/rig-sim.log; exit 1; }
+echo "INTEGRITY $(sqlite3 "$archive" 'PRAGMA integrity_check' 2>&1 | tr '\n' ' ')"
+sqlite3 -separator ' ' "$archive" "SELECT 'RUNROW', r.id, r.outcome, COUNT(s.idx), IFNULL(MIN(s.idx), -1), IFNULL(MAX(s.idx), -1)
+  FROM runs r LEFT JOIN samples s ON s.run_id = r.id GROUP BY r.id ORDER BY r.id" || exit 1
+grep -q rigmode=check /proc/cmdline && exit 0
+# The DAQ link comes up a moment after the API (the first replies under TCG are slow).
+for i in $(seq 20); do rig home > /dev/null 2>&1 && break; rig reset > /dev/null 2>&1; sleep 0.2; done
+for i in $(seq 20); do rig tare > /dev/null 2>&1 && break; sleep 0.3; done
+rig status | grep -q 'yes / yes' || { rig status; cat /tmp/rigd.log; exit 1; }
+# Commands are refused in a cycle whose DAQ reply was late (TCG): ask again.
+for i in $(seq 20); do
+  run=$(rig run --iop 15 --velocity 4 --depth 8 --eye P --no-wait 2>/dev/null | sed -n 's/^run \([0-9]*\) armed.*/\1/p')
+  [ -n "$run" ] && break; sleep 0.2
+done
+[ -n "$run" ] || { cat /tmp/rigd.log; exit 1; }
+# The host cuts the power at a random moment after the first of these lines.
+while :; do
+  status=$(wget -qO- "$RIG_API/api/status")
+  echo "CYC $run $(echo "$status" | sed -n 's/.*"cycles":\([0-9]*\).*/\1/p') $(echo "$status" | sed -n 's/.*"state":"\([A-Za-z]*\)".*/\1/p')"
+done
