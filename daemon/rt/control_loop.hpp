@@ -46,10 +46,7 @@ class ControlLoop final : public EventSink {
   void wait_and_cycle() noexcept;
   void cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
-  // exchange_ns: how long the DAQ read took. It returns by its response timeout (< one period, the
-  // config loader checks) plus at most a byte timeout or a reconnect, so one longer than two
-  // periods means rigd itself was off the CPU while waiting, not that the DAQ was silent.
-  void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns, std::int64_t exchange_ns) noexcept;
+  void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void drain_commands(const CycleInput& in) noexcept;
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
   drivers::IoStatus write_outputs(const drivers::DriveCommand& command) noexcept;  // the first failure
