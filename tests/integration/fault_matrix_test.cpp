@@ -141,9 +141,9 @@ class FaultMatrix : public ::testing::Test {
   static void set(testing::SimPanel& p, int reg, std::uint16_t v) { p.set(reg, v); }
 
   // Bounds on motor-off latency [ms of sim time after the injection]. The DAQ's watchdog is
-  // daq.watchdog_ms = 15 (config/rigd.sim.toml) after rigd's last write; the injection is
-  // dated up to ~1 ms late.
-  static constexpr double kDaqWatchdog_ms = 15.0;
+  // daq.watchdog_ms = 15 (config/rigd.sim.toml; 30 in sanitized trees, rig_processes.hpp)
+  // after rigd's last write; the injection is dated up to ~1 ms late.
+  static constexpr double kDaqWatchdog_ms = testing::kSimDaqWatchdog_ms;
   static constexpr double kDaqWatchdogBound_ms = kDaqWatchdog_ms + 2.0;
   static constexpr double kSameCycleBound_ms = 3.0;  // one 1 ms period, the DAQ round trip, slack
   static constexpr double kDaqSwitchedOffBound_ms = 2.0;  // the DAQ itself drops the outputs

@@ -130,8 +130,8 @@ TEST(RigdEndToEnd, ALinkDropMidCutFaultsTheRunAndTheDaqWatchdogStopsTheMotor) {
   testing::SimPanel after(rig.sim_port());
   EXPECT_FALSE(after.motor_powered());
   // rigd's last command reached the rig at most one request before the drop; the DAQ's
-  // watchdog (daq.watchdog_ms = 15 in config/rigd.sim.toml) then removes motor power.
-  EXPECT_LE(after.motor_off_time_s() - dropped_at, 0.015 + 0.002);
+  // watchdog (daq.watchdog_ms = 15 in config/rigd.sim.toml, 30 sanitized) then removes motor power.
+  EXPECT_LE(after.motor_off_time_s() - dropped_at, testing::kSimDaqWatchdog_ms * 1e-3 + 0.002);
   ASSERT_TRUE(rig.wait_state("Fault", 5));
   EXPECT_NE(rig.status()["fault"].get<std::string>().find("DAQ link lost"), std::string::npos);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
