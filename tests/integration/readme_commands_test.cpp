@@ -126,7 +126,7 @@ class DocumentedCommands : public ::testing::Test {
     }
     const bool until_overlay = sub == "demo" && c.text.find("--once") == std::string::npos;
     const bool bounded = sub == "bench" || sub == "haptic";
-    const Finished f = run_in_shell(shell_line(c.text), dir_.path().string(), until_overlay ? 300 : (bounded ? 8 : 240),
+    const Finished f = run_in_shell(shell_line(c.text), dir_.path().string(), until_overlay ? 300 : (bounded ? 4 : 240),
                                     until_overlay ? "live overlay at" : "");
     if (bounded && f.timed_out) return;  // ran its bounded time without failing
     EXPECT_FALSE(f.timed_out) << where << " did not finish\n" << f.err;
