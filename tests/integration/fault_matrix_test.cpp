@@ -154,7 +154,10 @@ class FaultMatrix : public ::testing::Test {
 
 TEST_F(FaultMatrix, ModbusLinkDroppedMidCut) {
   cut_into_tissue();
-  inject_and_check([](auto& p) { set(p, panel_reg::kLinkDrop, 1); }, "Fault", "DAQ link lost",
+  // 5: the link is cut for 50 ms, longer than the link-loss time (10 ms; 25 ms sanitized) and
+  // the DAQ's watchdog; at 1 (10 ms) it was no longer than the link-loss time itself. It must
+  // end on its own: the row reads the rig-sim's truth over the same link afterwards.
+  inject_and_check([](auto& p) { set(p, panel_reg::kLinkDrop, 5); }, "Fault", "DAQ link lost",
                    [](auto& p) { set(p, panel_reg::kLinkDrop, 0); }, kDaqWatchdogBound_ms);
 }
 
