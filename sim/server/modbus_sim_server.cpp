@@ -107,19 +107,22 @@ void ModbusSimServer::refresh_registers() {
   reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
 }
 
+namespace {
+// A panel float the test wrote; NaN or infinity (garbage written) means "no injection".
+double finite_or_zero(float value) { return std::isfinite(value) ? value : 0.0; }
+}  // namespace
+
 void ModbusSimServer::apply_writes() {
   const std::uint16_t* h = mapping_->tab_registers;
   InjectedFaults& faults = physics_->faults();
   faults.estop_pressed = h[reg::sim_panel::kEstopButton] != 0;
   faults.stuck_force = h[reg::sim_panel::kStuckForce] != 0;
-  faults.extra_force_N = reg::decode_f32(h + reg::sim_panel::kExtraForceN);
-  if (!std::isfinite(faults.extra_force_N)) faults.extra_force_N = 0.0;
+  faults.extra_force_N = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kExtraForceN));
   faults.end_limit_forced = h[reg::sim_panel::kEndLimitForced] != 0;
   faults.home_limit_forced = h[reg::sim_panel::kHomeLimitForced] != 0;
   faults.drive_fault = h[reg::sim_panel::kDriveFault] != 0;
   faults.carriage_jammed = h[reg::sim_panel::kCarriageJammed] != 0;
-  faults.position_offset_mm = reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm);
-  if (!std::isfinite(faults.position_offset_mm)) faults.position_offset_mm = 0.0;
+  faults.position_offset_mm = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm));
   faults.home_switch_broken = h[reg::sim_panel::kHomeSwitchBroken] != 0;
   faults.writes_rejected = h[reg::sim_panel::kRejectWrites] != 0;
   if (new_nonzero(h[reg::sim_panel::kNewEye], last_new_eye_)) physics_->mount_new_eye(2.0);
