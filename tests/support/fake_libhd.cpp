@@ -32,14 +32,24 @@ std::atomic<hd::HDerror> g_pending_error{hd::kSuccess};
 std::atomic<hd::HDerror> g_init_error{hd::kSuccess};
 std::atomic<double> g_last_force_z{0.0};
 std::atomic<long> g_frames{0};
-// The force [N] set along z in the frame where the stylus was closest to 1 mm below the surface.
-std::atomic<double> g_force_at_1mm{0.0};
-std::atomic<double> g_best_distance_to_1mm{1e9};
-std::atomic<long> g_start_ns{0};
+// The frames whose stylus was within 0.1 mm of 1 mm below the surface: the force [N] set
+// along z and the true depth [mm], summed (a mean over ~100 frames, so one frame disturbed by
+// a loaded machine does not decide the test).
+std::mutex g_band_mutex;
+double g_band_force_sum = 0.0, g_band_depth_sum = 0.0;
+long g_band_frames = 0;
+std::atomic<double> g_frame_z_mm{3.0};  // [mm] true stylus z when the servo read it this frame
+constexpr double kCount_mm = 0.055;     // one encoder count at the tip, as on an Omni
+std::atomic<long> g_start_ns{0};           // the stylus starts moving at the first frame (0: not yet)
 hd::HDSchedulerHandle g_next_handle = 1;
 
+long now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
 double stylus_z_mm() {
-  const long now = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  if (g_start_ns.load() == 0) return 3.0;
+  const long now = now_ns();
   const double t = static_cast<double>(now - g_start_ns.load()) * 1e-9;
   return 3.0 - 2.0 * t;  // surface at z = 0 is reached after 1.5 s
 }
@@ -69,12 +79,20 @@ void hdEnable(hd::HDenum cap) {
 void hdDisable(hd::HDenum cap) {
   if (cap == hd::kForceOutput) g_force_output.store(false);
 }
-void hdBeginFrame(hd::HHD /*device*/) {}
+// The stylus starts at the servo's first frame, as the servo's ramp-in does: a session that
+// starts late on a loaded machine still meets the surface after its ramp-in is over.
+void hdBeginFrame(hd::HHD /*device*/) {
+  long unset = 0;
+  g_start_ns.compare_exchange_strong(unset, now_ns());
+}
 void hdEndFrame(hd::HHD /*device*/) { g_frames.fetch_add(1); }
 
 void hdGetDoublev(hd::HDenum what, hd::HDdouble* value) {
   switch (what) {
-    case hd::kCurrentPosition: value[0] = 0.0, value[1] = 0.0, value[2] = stylus_z_mm(); break;
+    case hd::kCurrentPosition:
+      g_frame_z_mm.store(stylus_z_mm());
+      value[0] = 0.0, value[1] = 0.0, value[2] = std::round(g_frame_z_mm.load() / kCount_mm) * kCount_mm;
+      break;
     case hd::kNominalMaxForce: value[0] = 3.3; break;
     case hd::kNominalMaxContinuousForce: value[0] = 0.6; break;  // differs from the sim's 0.88 on purpose
     case hd::kNominalMaxStiffness: value[0] = 0.9; break;
@@ -86,10 +104,14 @@ void hdSetDoublev(hd::HDenum what, const hd::HDdouble* value) {
   if (what != hd::kCurrentForce) return;
   const double force_z = g_force_output.load() ? value[2] : 0.0;
   g_last_force_z.store(force_z);
-  const double distance = std::abs(-stylus_z_mm() - 1.0);
-  if (distance < g_best_distance_to_1mm.load()) {
-    g_best_distance_to_1mm.store(distance);
-    g_force_at_1mm.store(force_z);
+  // Judged at the position the servo read in this frame (not at the time of the write, which a
+  // descheduled servo thread makes later).
+  const double depth_mm = -g_frame_z_mm.load();
+  if (std::abs(depth_mm - 1.0) <= 0.1) {
+    std::lock_guard lock(g_band_mutex);
+    g_band_force_sum += force_z;
+    g_band_depth_sum += depth_mm;
+    ++g_band_frames;
   }
 }
 
@@ -113,7 +135,7 @@ void hdUnschedule(hd::HDSchedulerHandle handle) {
 }
 
 void hdStartScheduler() {
-  g_start_ns.store(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count());
+  g_start_ns.store(0);
   g_running.store(true);
   g_scheduler = std::thread(scheduler_loop);
 }
@@ -129,6 +151,18 @@ void fake_hd_fail_init(hd::HDerror code) { g_init_error.store(code); }
 double fake_hd_last_force_z() { return g_last_force_z.load(); }
 int fake_hd_force_output_enabled() { return g_force_output.load() ? 1 : 0; }
 long fake_hd_frames() { return g_frames.load(); }
-double fake_hd_force_at_1mm() { return g_force_at_1mm.load(); }
+// Means over the frames 0.9-1.1 mm deep: force [N], depth [mm]; and how many frames.
+double fake_hd_force_at_1mm() {
+  std::lock_guard lock(g_band_mutex);
+  return g_band_frames > 0 ? g_band_force_sum / static_cast<double>(g_band_frames) : 0.0;
+}
+double fake_hd_depth_at_1mm() {
+  std::lock_guard lock(g_band_mutex);
+  return g_band_frames > 0 ? g_band_depth_sum / static_cast<double>(g_band_frames) : 0.0;
+}
+long fake_hd_frames_at_1mm() {
+  std::lock_guard lock(g_band_mutex);
+  return g_band_frames;
+}
 
 }  // extern "C"

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -42,7 +43,12 @@ class TcpCutProxy {
   TcpCutProxy& operator=(const TcpCutProxy&) = delete;
 
   int port() const { return port_; }
-  void cut() { cut_ = true; }
+  // Returns once every open connection is reset: nothing is forwarded after cut() returns.
+  void cut() {
+    cut_applied_ = false;
+    cut_ = true;
+    while (!cut_applied_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
   void restore() { cut_ = false; }
 
  private:
@@ -92,13 +98,16 @@ class TcpCutProxy {
   }
   void loop() {
     while (!stop_) {
-      if (cut_) close_all();
+      if (cut_) {
+        close_all();
+        cut_applied_ = true;
+      }
       std::vector<pollfd> fds{{listen_fd_, POLLIN, 0}};
       for (auto [a, b] : pairs_) {
         fds.push_back({a, POLLIN, 0});
         fds.push_back({b, POLLIN, 0});
       }
-      if (poll(fds.data(), fds.size(), 50) <= 0) continue;
+      if (poll(fds.data(), fds.size(), 50) <= 0 || cut_) continue;  // cut while polling: forward nothing more
       std::vector<std::pair<int, int>> alive;
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
         auto [a, b] = pairs_[i];
@@ -122,6 +131,7 @@ class TcpCutProxy {
   int port_ = 0;
   std::atomic<bool> stop_{false};
   std::atomic<bool> cut_{false};
+  std::atomic<bool> cut_applied_{false};
   std::vector<std::pair<int, int>> pairs_;  // (client, server), touched only by the loop thread
   std::thread thread_;
 };
