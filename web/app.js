@@ -148,8 +148,10 @@ function drawEvents() {
 
 function drawRunCaption() {
   const v = rigRun.view, info = v.info;
+  const lab = typeof v.runId === "string";  // "lab:UUID": a run of the lab's archive
+  const name = lab ? (info ? `${info.rig_id} run ${info.local_run_id} (lab archive)` : "lab archive run") : `run ${v.runId}`;
   $("run-caption").textContent = !v.runId ? "no run in the archive yet" :
-    `run ${v.runId}${info ? ` · eye ${info.eye_id} · ${info.outcome}${info.reason ? ": " + info.reason : ""}` : ""} · ` +
+    `${name}${info ? ` · eye ${info.eye_id} · ${info.outcome}${info.reason ? ": " + info.reason : ""}` : ""} · ` +
     `${v.data.t.length} samples${v.following ? " · following the rig" : ""}` + (v.gaps ? ` · ${v.gaps} gaps the archive could not fill` : "");
 }
 
@@ -163,12 +165,25 @@ async function loadRunPicker() {
     $("run-pick").innerHTML = `<option value="follow">the rig's current or last run</option>` +
       list.runs.slice().reverse().map(r => `<option value="${r.run_id}">run ${r.run_id} · ${escapeHtml(r.eye_id)} · ` +
         `${r.outcome}${r.reason ? " (" + escapeHtml(r.reason) + ")" : ""} · ${r.samples} samples</option>`).join("");
+    $("run-pick").innerHTML += await labArchiveOptions();
     $("run-pick").value = [...$("run-pick").options].some(o => o.value === keep) ? keep : "follow";
   } catch (e) { /* the status line says what is wrong */ }
 }
+// With [lab_archive] on: the lab's runs, of every rig, as "lab:UUID" options.
+async function labArchiveOptions() {
+  if (!rig.labArchive) return "";
+  try {
+    const list = await api("/api/lab-archive/runs");
+    return `<optgroup label="lab archive (${list.total} runs)">` + list.runs.slice().reverse().map(r =>
+      `<option value="lab:${r.run_uuid}">${escapeHtml(r.rig_id)} run ${r.local_run_id} · ${escapeHtml(r.eye_id)}` +
+      `${r.eye_lot ? " · lot " + escapeHtml(r.eye_lot) : ""} · ${r.outcome} · ${r.samples} samples</option>`).join("") + "</optgroup>";
+  } catch (e) {
+    return `<optgroup label="lab archive: ${escapeHtml(e.message || e)}"></optgroup>`;
+  }
+}
 $("run-pick").onchange = () => {
   const v = $("run-pick").value;
-  if (v === "follow") rigRun.follow(); else rigRun.show(+v, false);
+  if (v === "follow") rigRun.follow(); else rigRun.show(v.startsWith("lab:") ? v : +v, false);
 };
 $("run-pick").onfocus = loadRunPicker;
 
@@ -193,6 +208,7 @@ function onMessage(event) {
 function connect() {
   const url = `${location.protocol === "https:" ? "wss" : "ws"}://${location.host}/ws${token ? "?token=" + encodeURIComponent(token) : ""}`;
   const ws = new WebSocket(url);
+  rig.socket = ws;  // the browser tests drop it to check that a reconnect fills the gap
   ws.onopen = () => {
     $("conn").textContent = "live"; $("conn").className = "pill on";
     // Opened or reconnected: the whole run again from the archive, then the stream.
@@ -217,6 +233,7 @@ async function refreshStatus() {
     $("r-velocity").textContent = fmt(s.velocity_mm_s, 3) + " mm/s";
     $("r-ready").textContent = (s.homed ? "homed" : "not homed") + " / " + (s.tared ? "tared" : "not tared");
     $("r-loop").textContent = `${fmt(s.loop.rate_hz, 0)} Hz, jitter p99 ${fmt(s.loop.jitter_p99_us, 0)} µs, overruns ${s.loop.overruns}`;
+    showLabArchive(s.lab_archive);
     const i = s.interlocks, stopped = s.state === "Fault" || s.state === "EStop";
     // Red while the input is active, and while the latched fault names it (until Reset).
     const named = text => stopped && s.fault.includes(text);
@@ -228,6 +245,20 @@ async function refreshStatus() {
     showBanner(s);
     rig.motorEnabled = s.motor_enabled;
   } catch (e) { $("fault").textContent = String(e.message || e); }
+}
+
+// The lab archive's replicator (issue 16): shown only when [lab_archive] is on. A backlog is
+// normal while a run records; one that grows while "not reachable" is what the lab must see.
+function showLabArchive(lab) {
+  $("lab-row").classList.toggle("hidden", !lab);
+  rig.labArchive = !!lab;
+  if (!lab) return;
+  const backlog = `backlog ${lab.backlog_samples} samples in ${lab.backlog_runs} runs` +
+    (lab.backlog_known ? "" : " (every run not yet confirmed: the server was not reached since rigd started)");
+  const cell = $("r-lab");
+  cell.textContent = lab.connected ? `connected as ${lab.rig_id}, ${backlog}`
+                                   : `NOT REACHABLE as ${lab.rig_id}, ${backlog}${lab.last_error ? " — " + lab.last_error : ""}`;
+  cell.className = lab.connected ? "" : "warn";
 }
 
 // What stopped the rig and what the technician does next, in words (docs/faults.md).

@@ -54,7 +54,9 @@ const rigRun = (() => {
   // Everything the archive holds of the run after lastCycle (in pages).
   async function fetchArchive(generation) {
     for (;;) {
-      const part = await getJson(`/api/runs/${view.runId}/stream?from=${view.lastCycle + 1}`);
+      const lab = typeof view.runId === "string";  // "lab:UUID": the lab's PostgreSQL archive
+      const path = lab ? `/api/lab-archive/runs/${view.runId.slice(4)}/stream` : `/api/runs/${view.runId}/stream`;
+      const part = await getJson(`${path}?from=${view.lastCycle + 1}`);
       if (generation !== view.generation) return false;
       view.info = part;
       view.events = part.events;

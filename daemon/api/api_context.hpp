@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <functional>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "auth.hpp"
 #include "request_guard.hpp"
@@ -43,6 +45,8 @@ struct ApiContext {
   ApiCounters counters;
   std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
   std::function<std::string()> lab_archive_status;  // JSON object when [lab_archive] is on (status "lab_archive")
+  // libpq keyword/value pairs of the lab archive (lab_archive::connection_params); empty: off.
+  std::vector<std::pair<std::string, std::string>> lab_archive_connection;
 };
 
 }  // namespace rig::api

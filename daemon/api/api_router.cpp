@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "archive_endpoints.hpp"
+#include "lab_archive_endpoints.hpp"
 #include "haptic_control.hpp"
 #include "model_lint.hpp"
 #include "lab_service.hpp"
@@ -63,7 +64,8 @@ Response error_response(const Request& request, http::status status, const std::
 }
 
 ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context)
-    : io_(&io), context_(&context), archive_(std::make_unique<ArchiveEndpoints>(io, context)) {}
+    : io_(&io), context_(&context), archive_(std::make_unique<ArchiveEndpoints>(io, context)),
+      lab_archive_(std::make_unique<LabArchiveEndpoints>(io, context)) {}
 
 ApiRouter::~ApiRouter() = default;
 
@@ -96,6 +98,9 @@ void ApiRouter::handle(const Request& request, Responder respond) {
     if (get && path == "/metrics") return respond(make_response(request, http::status::ok, prometheus_metrics(*context_), "text/plain; version=0.0.4"));
     if (get && path == "/api/runs") return archive_->get_runs(request, respond);
     if (get && std::regex_match(path, m, kRunPath)) return archive_->get_run(request, std::stoll(m[1].str()), m[2].str(), respond);
+    static const std::regex kLabRunPath(R"(^/api/lab-archive/runs/([^/]{1,64})/stream$)");
+    if (get && path == "/api/lab-archive/runs") return lab_archive_->get_runs(request, respond);
+    if (get && std::regex_match(path, m, kLabRunPath)) return lab_archive_->get_stream(request, m[1].str(), respond);
     if (path == "/api/model" && (get || post)) return model(request, respond);
     if (post && path.rfind("/api/lab/", 0) == 0) return lab(request, path.substr(9), respond);
     if ((get || post) && (path == "/api/haptic" || path == "/api/haptic/stop")) return haptic(request, path, respond);

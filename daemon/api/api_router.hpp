@@ -12,6 +12,7 @@
 namespace rig::api {
 
 class ArchiveEndpoints;
+class LabArchiveEndpoints;
 
 class ApiRouter {
  public:
@@ -31,6 +32,7 @@ class ApiRouter {
   boost::asio::io_context* io_;
   ApiContext* context_;
   std::unique_ptr<ArchiveEndpoints> archive_;  // run lists, exports, run rows: off the I/O thread
+  std::unique_ptr<LabArchiveEndpoints> lab_archive_;  // the lab's PostgreSQL runs: off the I/O thread
   std::uint64_t next_command_id_ = 1'000'000;  // distinct from other senders' ids
 };
 

@@ -50,9 +50,9 @@ std::string status_json(ApiContext& c) {
   const auto model = c.hub->model();
   s.model_file = model ? model->path : "";
   s.surface_mm = c.config->loop.motion.surface_mm;
-  nlohmann::json status(s);
-  if (c.lab_archive_status) status["lab_archive"] = nlohmann::json::parse(c.lab_archive_status());
-  return status.dump();
+  // Validated against proto::LabArchiveStatus, so the page and `rig status` read one schema.
+  if (c.lab_archive_status) s.lab_archive = nlohmann::json::parse(c.lab_archive_status()).get<proto::LabArchiveStatus>();
+  return nlohmann::json(s).dump();
 }
 
 std::string prometheus_metrics(ApiContext& c) {

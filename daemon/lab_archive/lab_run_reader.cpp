@@ -53,6 +53,7 @@ void LabRunFilter::add(const std::string& key_value) {
 }
 
 LabRunReader::LabRunReader(const std::string& conninfo) : db_(conninfo) {}
+LabRunReader::LabRunReader(const ConnectionParams& params) : db_(params) {}
 
 std::vector<LabRunRow> LabRunReader::list_runs(const LabRunFilter& filter) {
   std::string sql = "SELECT run_uuid, rig_id, local_run_id, eye_id, coalesce(eye_lot, ''), iop_mmhg, velocity_mm_s, depth_mm, " +

@@ -40,6 +40,7 @@ struct LabRunRow {
 class LabRunReader {
  public:
   explicit LabRunReader(const std::string& conninfo);
+  explicit LabRunReader(const ConnectionParams& params);  // as rigd connects (lab_archive_settings.hpp)
   std::vector<LabRunRow> list_runs(const LabRunFilter& filter);
   model::RunData load_run(const std::string& run_uuid);
   PgConnection& connection() { return db_; }

@@ -226,6 +226,7 @@ void RigdApp::start_lab_archive() {
   parts_->lab_replicator->start();  // throws naming the password file if it is unsafe
   lab_archive::LabReplicator* replicator = parts_->lab_replicator.get();
   parts_->api_context.lab_archive_status = [replicator] { return lab_archive::status_json(replicator->status()); };
+  parts_->api_context.lab_archive_connection = lab_archive::connection_params(config_.lab_archive);
   spdlog::info("lab archive: replicating as rig {}", replicator->status().rig_id);
 }
 

@@ -27,14 +27,15 @@ function waitForLine(child, text, timeoutMs) {
   });
 }
 
-export async function startRig(bin, source, archive) {
+// extra: further `--set key=value` overrides for rigd.
+export async function startRig(bin, source, archive, extra = []) {
   const dir = mkdtempSync(join(tmpdir(), "rig-browser-"));
   archive = archive || join(dir, "archive.sqlite");
   const sim = spawn(join(bin, "rig-sim"), ["--port", "0"]);
   const simLine = await waitForLine(sim, "listening on", 10000);
   const port = simLine.trim().split(":").pop();
   const rigd = spawn(join(bin, "rigd"), ["--config", join(source, "config/rigd.sim.toml"), "--set", `daq.port=${port}`,
-    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`]);
+    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`, ...extra.flatMap(kv => ["--set", kv])]);
   const ready = await waitForLine(rigd, "ready, API on", 20000);
   const url = ready.slice(ready.indexOf("http://")).trim();
   return {url, dir, archive, simPort: +port, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};

@@ -1,5 +1,5 @@
-// The Live tab shows the whole run, as a technician sees it: a page opened mid-cut and one
-// opened after the cut both plot every sample of the run (approach to full depth, the
+// The Live tab shows the whole run, as a technician sees it: a page opened mid-cut, one
+// opened after the cut and one whose stream dropped mid-cut all plot every sample of the run (approach to full depth, the
 // puncture peak, the model) with no gap and no duplicate; an old run picked from the list is
 // shown the same way; a fault injected through rig-sim's test panel shows its reason in the
 // banner and the events, with the tripped chips red. Screenshots go to --artifacts.
@@ -55,6 +55,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
   const rig = await startRig(a.bin, a.source);
   const {browser, page} = await openPage(rig.url);
   try {
+    if (await page.isVisible("#lab-row")) throw new Error("a lab archive row shown with [lab_archive] off");
     await post(page, "/api/home", {});
     await untilRig(rig.url, "Ready after homing", s => s.state === "Ready", 60000);
     await post(page, "/api/tare", {});
@@ -68,6 +69,11 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     const midCut = await browser.newPage({viewport: {width: 1400, height: 1500}});
     midCut.on("pageerror", e => console.error(`  page error: ${e.message}`));
     await midCut.goto(rig.url, {waitUntil: "domcontentloaded"});
+    // The first page loses its stream mid-cut (as over a flaky network) and reconnects 1 s later.
+    await page.evaluate(() => window.rig.socket.close());
+    await until("the first page offline", async () => (await page.textContent("#conn")) === "offline", 5000);
+    await until("the first page live again", async () => (await page.textContent("#conn")) === "live", 10000);
+    stage("the first page reconnected mid-cut");
     await untilRig(rig.url, "the cut done", s => s.state === "Done", 30000);
     await until("the run archived as completed", async () => (await archived(rig.url, runId)).outcome === "completed", 5000);
     stage("cut 1 done");
@@ -77,6 +83,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     const after = await browser.newPage({viewport: {width: 1400, height: 1500}});
     await after.goto(rig.url, {waitUntil: "domcontentloaded"});
     await checkWholeRun(after, rig.url, runId, cut.depth_mm, "opened after the cut");
+    await checkWholeRun(page, rig.url, runId, cut.depth_mm, "reconnected mid-cut");
     await after.screenshot({path: shot("run-view-opened-after-cut.png"), fullPage: true});
     console.log(`  run ${runId}: ${opened.points} samples, cycles ${opened.firstCycle}..${opened.lastCycle}, x ${opened.xMin.toFixed(2)}..` +
                 `${opened.xMax.toFixed(2)} mm, peak ${opened.peakN.toFixed(4)} N at ${opened.peakX.toFixed(2)} mm, model on ${opened.modelPoints}`);

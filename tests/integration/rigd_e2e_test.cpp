@@ -112,6 +112,7 @@ TEST(RigdEndToEnd, ArchiveSurvivesKill9MidRunLosingAtMost100ms) {
   rig.start_rigd();  // the next start marks it interrupted, keeping the samples
   const json runs = json::parse(rig.api().get("/api/runs").body);
   EXPECT_EQ(runs["runs"][0]["outcome"], "interrupted");
+  EXPECT_EQ(rig.api().get("/api/lab-archive/runs").status, 503);  // [lab_archive] is off by default
   EXPECT_EQ(runs["runs"][0]["samples"].get<std::size_t>(), data.size());
 }
 

@@ -59,6 +59,26 @@ TEST(LabArchiveRigd, ARigdKilledWithABacklogDuringANetworkCutResumesAndTheLabGet
   const auto rows = reader.list_runs({});
   ASSERT_EQ(rows.size(), 1U);
   EXPECT_EQ(testing::run_checksum(reader.load_run(rows[0].uuid)), testing::run_checksum(local.load_run(1)));
+
+  // The page's run picker reads the lab archive through rigd: the same run, sample for sample,
+  // as the rig's own replay of it.
+  const json listed = json::parse(rig.api().get("/api/lab-archive/runs?rig=rig-e2e&eye_lot=L7").body);
+  ASSERT_EQ(listed["runs"].size(), 1U) << listed.dump();
+  EXPECT_EQ(listed["runs"][0]["run_uuid"], rows[0].uuid);
+  EXPECT_EQ(listed["runs"][0]["samples"], run->samples);
+  EXPECT_EQ(json::parse(rig.api().get("/api/lab-archive/runs?eye_lot=OTHER").body)["runs"].size(), 0U);
+  const json remote = json::parse(rig.api().get("/api/lab-archive/runs/" + rows[0].uuid + "/stream?limit=1000000").body);
+  const json own = json::parse(rig.api().get("/api/runs/1/stream?limit=1000000").body);
+  EXPECT_EQ(remote["cycle"], own["cycle"]);
+  EXPECT_EQ(remote["force_N"], own["force_N"]);
+  EXPECT_EQ(remote["x_mm"], own["x_mm"]);
+  EXPECT_EQ(remote["phase"], own["phase"]);
+  EXPECT_EQ(remote["model_N"], own["model_N"]);
+  EXPECT_EQ(remote["events"].size(), own["events"].size());
+  EXPECT_EQ(remote["rig_id"], "rig-e2e");
+  EXPECT_EQ(rig.api().get("/api/lab-archive/runs/not-a-uuid/stream").status, 400);
+  EXPECT_EQ(rig.api().get("/api/lab-archive/runs/00000000-0000-0000-0000-000000000000/stream").status, 404);
+  EXPECT_EQ(rig.api().get("/api/lab-archive/runs?rig").status, 400);
 }
 
 }  // namespace
