@@ -75,6 +75,11 @@ class Archive {
   // A run the loop refused to arm: its row (still 'armed', no sample) and metadata go.
   void discard_unstarted_run(std::int64_t run_id);
   int recover_interrupted();
+  // Runs left 'importing' by a `rig import` that no longer runs (killed, crashed, power cut):
+  // their rows go (the file they came from still holds every sample) and their sources are
+  // returned so the caller can say which files to import again. An import whose process still
+  // runs is left alone (import_process.hpp).
+  std::vector<std::string> remove_abandoned_imports();
 
   void begin();
   void commit();

@@ -4,6 +4,7 @@
 #include <thread>
 
 #include "archive.hpp"
+#include "import_process.hpp"
 
 namespace rig::archive {
 
@@ -60,6 +61,7 @@ std::int64_t Archive::import_run(const model::RunData& run) {
     Statement channel = db_.prepare("INSERT INTO channels (run_id, name, data) VALUES (?,?,?)");
     for (const auto& c : run.channels) channel.bind(1, id).bind(2, c.name).bind(3, std::span<const double>(c.values)).run();
     db_.prepare("UPDATE runs SET outcome='imported' WHERE id=?").bind(1, id).run();
+    db_.prepare("DELETE FROM run_meta WHERE run_id=? AND key='import_process'").bind(1, id).run();
     commit();
     return id;
   } catch (...) {
@@ -91,6 +93,8 @@ std::int64_t Archive::import_run_row(const model::RunData& run) {
       meta.bind(1, id).bind(2, seq++).bind(3, key).bind(4, value).run();
     }
     if (const auto original = run.text("run_id")) meta.bind(1, id).bind(2, seq++).bind(3, std::string("original_run_id")).bind(4, *original).run();
+    // Until the last row is in: who imports it (remove_abandoned_imports), dropped at the end.
+    meta.bind(1, id).bind(2, seq++).bind(3, std::string("import_process")).bind(4, current_import_process()).run();
     commit();
     return id;
   } catch (...) {
@@ -115,6 +119,22 @@ void Archive::import_samples(std::int64_t id, const model::RunData& run) {
     commit();
     if (i < run.size()) std::this_thread::sleep_for(kPause);
   }
+}
+
+std::vector<std::string> Archive::remove_abandoned_imports() {
+  std::vector<std::pair<std::int64_t, std::string>> abandoned;
+  Statement q = db_.prepare(
+      "SELECT r.id, r.source, coalesce(m.value, '') FROM runs r LEFT JOIN run_meta m ON m.run_id = r.id AND "
+      "m.key = 'import_process' WHERE r.outcome = 'importing'");
+  while (q.step()) {
+    if (!import_process_alive(q.text(2))) abandoned.emplace_back(q.integer(0), q.text(1));
+  }
+  std::vector<std::string> sources;
+  for (const auto& [id, source] : abandoned) {
+    remove_run_rows(id);
+    sources.push_back(source);
+  }
+  return sources;
 }
 
 void Archive::remove_run_rows(std::int64_t id) noexcept {

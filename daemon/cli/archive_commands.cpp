@@ -33,6 +33,10 @@ int export_run(const CliContext& c, const ExportOptions& o) {
 
 int import_runs(const CliContext& c, const std::vector<std::string>& files) {
   archive::Archive archive(c.archive_path);
+  for (const std::string& source : archive.remove_abandoned_imports()) {
+    std::cerr << "warning: removed a half-imported run of " << source
+              << " (its rig import was stopped before the end); import the file again\n";
+  }
   nlohmann::json imported = nlohmann::json::array();
   for (const auto& file : files) {
     const model::RunData run = model::read_run_csv(file);  // throws naming file and line

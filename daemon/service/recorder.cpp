@@ -35,6 +35,9 @@ Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, 
       flush_interval_ms_(flush_interval_ms) {
   const int interrupted = archive_->recover_interrupted();
   if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
+  for (const std::string& source : archive_->remove_abandoned_imports()) {
+    spdlog::warn("archive: removed a half-imported run of {} (its rig import was stopped before the end); import the file again", source);
+  }
 }
 
 Recorder::~Recorder() { stop(); }

@@ -3,10 +3,15 @@
 // every 50 ms and its ring holds about a second).
 #include <gtest/gtest.h>
 
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <optional>
 #include <thread>
 
 #include "archive.hpp"
@@ -80,6 +85,41 @@ TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneC
   EXPECT_EQ(row->outcome, "imported");
   EXPECT_EQ(row->samples, 400'000);
   EXPECT_EQ(recorder.find_run(cut)->samples, commits);
+  for (const auto& [key, value] : recorder.run_meta(imported)) EXPECT_NE(key, "import_process") << value;
+}
+
+// A `rig import` killed half-way leaves a run 'importing' that nobody will finish: the next
+// rigd start or `rig import` removes it and names its file (the file still holds every
+// sample), but never while the importing process still runs.
+TEST(ArchiveImport, AHalfImportWhoseProcessWasKilledIsRemovedAndNamedButARunningOneIsLeftAlone) {
+  testing::ScratchDir dir("archive-import-killed");
+  const std::string path = dir.file("a.sqlite");
+  { Archive create(path); }
+  const pid_t child = fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    Archive cli(path);
+    cli.import_run(long_run(5'000'000));  // minutes: killed long before the end
+    _exit(0);
+  }
+  Archive rigd(path);
+  std::optional<RunRow> half;
+  for (int i = 0; i < 3000 && !(half && half->samples > 0); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    const auto runs = rigd.list_runs();
+    if (!runs.empty()) half = runs.back();
+  }
+  ASSERT_TRUE(half && half->outcome == "importing" && half->samples > 0) << "the import never started writing samples";
+  EXPECT_TRUE(rigd.remove_abandoned_imports().empty()) << "an import still running was removed";
+  EXPECT_TRUE(rigd.find_run(half->id).has_value());
+  kill(child, SIGKILL);
+  int status = 0;
+  waitpid(child, &status, 0);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(rigd.remove_abandoned_imports(), std::vector<std::string>{"long.csv"});
+  EXPECT_FALSE(rigd.find_run(half->id).has_value());
+  EXPECT_TRUE(rigd.list_runs().empty());
+  EXPECT_TRUE(rigd.remove_abandoned_imports().empty());
 }
 
 }  // namespace
