@@ -27,6 +27,13 @@ function waitForLine(child, text, timeoutMs) {
   });
 }
 
+// A sanitized tree's rigd and rig-sim wake up to ~10 ms late on a loaded machine: they get the
+// allowances the C++ tests' rigs get (tests/support/rig_processes.hpp); a release tree keeps
+// the shipped 10 ms link-loss time and 15 ms DAQ watchdog.
+function sanitizedAllowances() {
+  return args().sanitized === "1" ? ["--set", "safety.link_lost_after_ms=25", "--set", "daq.watchdog_ms=30"] : [];
+}
+
 // extra: further `--set key=value` overrides for rigd.
 export async function startRig(bin, source, archive, extra = []) {
   const dir = mkdtempSync(join(tmpdir(), "rig-browser-"));
@@ -35,7 +42,7 @@ export async function startRig(bin, source, archive, extra = []) {
   const simLine = await waitForLine(sim, "listening on", 10000);
   const port = simLine.trim().split(":").pop();
   const rigd = spawn(join(bin, "rigd"), ["--config", join(source, "config/rigd.sim.toml"), "--set", `daq.port=${port}`,
-    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`, ...extra.flatMap(kv => ["--set", kv])]);
+    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`, ...sanitizedAllowances(), ...extra.flatMap(kv => ["--set", kv])]);
   const ready = await waitForLine(rigd, "ready, API on", 20000);
   const url = ready.slice(ready.indexOf("http://")).trim();
   return {url, dir, archive, simPort: +port, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};

@@ -119,7 +119,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
     const third = await post(page, "/api/run", {...cut, eye_id: "FAULTED"});
     await untilRig(rig.url, "3 mm into the tissue", s => s.position_mm - s.surface_mm > 3, 30000);
     stage("3 mm into cut 3");
-    await simPanelWrite(rig.simPort, LINK_DROP_REGISTER, 1);
+    await simPanelWrite(rig.simPort, LINK_DROP_REGISTER, 5);  // 50 ms silent: longer than any tree's link-loss time
     try {
       await until("the banner names the fault and the action", () => page.evaluate(
         () => /DAQ link lost/.test(window.rig.banner) && /cable and power; then press Reset, then Home/.test(window.rig.banner)), 10000);
