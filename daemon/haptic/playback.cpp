@@ -61,7 +61,11 @@ Playback::Playback(const PlaybackOptions& options, const model::ForceModel& refe
   servo.mesh.n = options.mesh_n;
   servo.count_late_ticks = options.device != "sim" || options.real_time;
   if (sim_ != nullptr) servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the virtual hand's frame
-  session_ = std::make_unique<HapticSession>(*device_, *source_, servo);
+  // The stall watchdog guards a hand on a device in real time; a simulated Phantom on virtual
+  // time runs the servo as fast as the CPU allows, and a loaded machine's stalls stop nothing.
+  const bool hand_on_device = options.device != "sim" || options.real_time;
+  session_ = std::make_unique<HapticSession>(*device_, *source_, servo,
+                                             std::chrono::milliseconds(hand_on_device ? 20 : 0));
 }
 
 Playback::~Playback() = default;

@@ -8,6 +8,7 @@ StallWatchdog::StallWatchdog(drivers::HapticDevice& device, std::chrono::millise
 StallWatchdog::~StallWatchdog() { stop(); }
 
 void StallWatchdog::start() {
+  if (timeout_.count() <= 0) return;  // off: no hand on a device (a simulated one on virtual time)
   stop_ = false;
   thread_ = std::thread([this] { run(); });
 }

@@ -125,6 +125,25 @@ TEST(HapticPlayback, TheWatchdogTurnsForceOffWhenTheServoStalls) {
   EXPECT_NE(report.fault.find("stalled"), std::string::npos) << report.fault;
 }
 
+// On virtual time no hand holds the device: a stall of the servo thread (a loaded machine)
+// must not end the session, which a 20 ms wall-clock watchdog did under ./rig stress.
+TEST(HapticPlayback, AVirtualTimeSessionHasNoWallClockWatchdog) {
+  BlockingSource source;
+  drivers::PushingHand hand(4.0, 1.0, -0.2, 0.2);
+  drivers::SimPhantomSettings settings;
+  settings.real_time = false;
+  drivers::SimPhantom device(settings, hand);
+  ServoSettings servo;
+  servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};
+  HapticSession session(device, source, servo, std::chrono::milliseconds(0));
+  source.armed_ = true;
+  const SessionReport report = session.run(nullptr, nullptr, 10.0);
+  EXPECT_TRUE(source.blocked_.load()) << "the source never stalled the servo";
+  EXPECT_FALSE(report.watchdog_tripped);
+  EXPECT_TRUE(report.fault.empty()) << report.fault;
+  EXPECT_FALSE(device.forced_off());
+}
+
 TEST(HapticPlayback, TheWatchdogStaysQuietOnAHealthyRealTimeServo) {
   PlaybackOptions o;
   o.velocity_mm_s = 4.0;
