@@ -161,11 +161,11 @@ const escapeHtml = text => String(text).replace(/[&<>"]/g, c => ({"&": "&amp;", 
 async function loadRunPicker() {
   try {
     const list = await api("/api/runs");
+    const labOptions = await labArchiveOptions();  // before the rebuild: the list is replaced in one step
     const keep = $("run-pick").value;
     $("run-pick").innerHTML = `<option value="follow">the rig's current or last run</option>` +
       list.runs.slice().reverse().map(r => `<option value="${r.run_id}">run ${r.run_id} · ${escapeHtml(r.eye_id)} · ` +
-        `${r.outcome}${r.reason ? " (" + escapeHtml(r.reason) + ")" : ""} · ${r.samples} samples</option>`).join("");
-    $("run-pick").innerHTML += await labArchiveOptions();
+        `${r.outcome}${r.reason ? " (" + escapeHtml(r.reason) + ")" : ""} · ${r.samples} samples</option>`).join("") + labOptions;
     $("run-pick").value = [...$("run-pick").options].some(o => o.value === keep) ? keep : "follow";
   } catch (e) { /* the status line says what is wrong */ }
 }
