@@ -143,6 +143,12 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
     fail("key 'daq.response_timeout_us' (" + std::to_string(c.daq.modbus.response_timeout_us) +
          " us) must be below one loop period (" + format_number(period_us) + " us)");
   }
+  // rigd judges lost writes itself before the DAQ's watchdog stops the motor for it.
+  const int failed_writes = c.loop.safety.max_failed_writes;
+  if (c.daq.kind == "modbus" && failed_writes * period_us >= c.daq.modbus.watchdog_ms * 1e3) {
+    fail("key 'safety.max_failed_writes' (" + std::to_string(failed_writes) + " loop periods) must be shorter than 'daq.watchdog_ms' (" +
+         std::to_string(c.daq.modbus.watchdog_ms) + " ms)");
+  }
   if (c.daq.modbus.transport == "rtu" && c.daq.modbus.serial_device.empty()) {
     fail("key 'daq.serial_device' is required for daq.transport = \"rtu\"");
   }

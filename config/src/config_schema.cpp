@@ -98,6 +98,8 @@ void add_iop_and_safety_fields(std::vector<ConfigField>& f) {
   f.push_back(integer("safety.overrun_storm_window_cycles", 1, 100000, "... within this many cycles fault the loop", RIG_AT(loop.safety.overrun_storm_window_cycles)));
   f.push_back(number("safety.max_following_error_mm", 0.01, 50, "fault when the carriage lags its reference by more [mm]", RIG_AT(loop.safety.max_following_error_mm)));
   f.push_back(integer("safety.stuck_force_cycles", 2, 100000, "identical force readings while cutting = stuck sensor", RIG_AT(loop.safety.stuck_force_cycles)));
+  f.push_back(integer("safety.max_failed_writes", 1, 1000, "output writes lost or garbled in a row (reads answered) before the run faults; a refused write faults at once",
+                      RIG_AT(loop.safety.max_failed_writes)));
   f.push_back(integer("safety.tare_cycles", 1, 100000, "cycles averaged by tare", RIG_AT(loop.safety.tare_cycles)));
 }
 

@@ -60,7 +60,9 @@ Response error_response(const Request& request, http::status status, const std::
   proto::ErrorReply reply;
   reply.error = error;
   if (!field.empty()) reply.field = field;
-  return make_response(request, status, nlohmann::json(reply).dump());
+  // The error may quote what the client sent (a Host, a path, a JSON parser's view of the
+  // body): bytes that are not UTF-8 are replaced, not thrown about (fuzz_api_router).
+  return make_response(request, status, nlohmann::json(reply).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context)
@@ -92,7 +94,8 @@ void ApiRouter::handle(const Request& request, Responder respond) {
   }
   try {
     rt::CommandKind kind{};
-    static const std::regex kRunPath(R"(^/api/runs/(\d+)(/csv|/samples|/stream|/frames/\d{1,9})?$)");
+    // At most 18 digits: any such id fits std::stoll (a longer one was a 500, fuzz_api_router).
+    static const std::regex kRunPath(R"(^/api/runs/(\d{1,18})(/csv|/samples|/stream|/frames/\d{1,9})?$)");
     std::smatch m;
     if (get && path == "/api/status") return respond(make_response(request, http::status::ok, status_json(*context_)));
     if (get && path == "/metrics") return respond(make_response(request, http::status::ok, prometheus_metrics(*context_), "text/plain; version=0.0.4"));

@@ -182,12 +182,12 @@ drivers::IoStatus ControlLoop::write_outputs(const drivers::DriveCommand& comman
 // Only a write that failed in a cycle whose read succeeded counts: after a failed read the
 // driver does not write at all, and the link judgement (judge_link) owns that case. An
 // explicit refusal is certain at once; a lost or garbled answer (a late reply under load)
-// needs Interlocks::kMaxFailedWrites in a row.
+// needs safety.max_failed_writes in a row.
 void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
   if (written == drivers::IoStatus::kOk) {
     failed_writes_ = 0;
   } else if (read_ok) {
-    failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, Interlocks::kMaxFailedWrites)
+    failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, s_.safety.max_failed_writes)
                                                             : failed_writes_ + 1;
     ch_->counters.write_failures.fetch_add(1, std::memory_order_relaxed);
   }

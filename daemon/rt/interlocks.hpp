@@ -14,10 +14,9 @@ struct InterlockVerdict {
 
 class Interlocks {
  public:
-  // Output writes failed in a row (reads answered) before the run faults. An explicit
-  // refusal counts as all of them: the fault comes in the next cycle, before the DAQ's own
-  // watchdog (daq.watchdog_ms = 5) trips. Lost or garbled answers are allowed two in a row.
-  static constexpr int kMaxFailedWrites = 3;
+  // Output writes failed in a row (reads answered) before the run faults:
+  // safety.max_failed_writes (default 3). An explicit refusal counts as all of them: the fault
+  // comes in the next cycle, before the DAQ's own watchdog (daq.watchdog_ms = 5) trips.
   explicit Interlocks(const LoopSettings& settings) : s_(settings) {}
   InterlockVerdict check(const CycleInput& in, const RunStateMachine& machine,
                          double following_error_mm) noexcept;

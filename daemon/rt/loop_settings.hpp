@@ -59,6 +59,9 @@ struct SafetySettings {
   int overrun_storm_window_cycles = 100;  // ... within this many cycles = storm
   double max_following_error_mm = 1.0;
   int stuck_force_cycles = 50;         // identical force readings while cutting tissue
+  // Output writes lost or garbled in a row (reads answered) before the run faults; an explicit
+  // refusal counts as all of them. Keep it below daq.watchdog_ms in cycles.
+  int max_failed_writes = 3;
   int tare_cycles = 500;
 };
 

@@ -22,6 +22,7 @@ IoStatus SimDaq::write(const DigitalOutputs& outputs) noexcept {
 
 IoStatus SimDaq::write(const DriveCommand& command) noexcept {
   if (injected_ != IoStatus::kOk) return injected_;  // the command never reaches the rig
+  if (write_injected_ != IoStatus::kOk) return write_injected_;
   if (physics_->faults().writes_rejected) return IoStatus::kRefused;
   physics_->write_outputs(command, staged_);
   return IoStatus::kOk;

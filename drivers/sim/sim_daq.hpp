@@ -21,6 +21,9 @@ class SimDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
 
   // Every call fails with this status until cleared with kOk (link loss, time-outs, garbage).
   void inject(IoStatus failure) noexcept { injected_ = failure; }
+  // Only output writes fail with this status (their answers lost or garbled, or refused) while
+  // reads are answered, until cleared with kOk; a failed write never reaches the rig.
+  void inject_write(IoStatus failure) noexcept { write_injected_ = failure; }
   // Every analog read takes this long on `clock` (a slow exchange, or the loop held off the
   // CPU while it waits for the reply) until set back to 0 [ns].
   void take_per_read(VirtualClock& clock, std::int64_t duration_ns) noexcept {
@@ -31,6 +34,7 @@ class SimDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
  private:
   sim::RigPhysics* physics_;
   IoStatus injected_ = IoStatus::kOk;
+  IoStatus write_injected_ = IoStatus::kOk;
   DigitalOutputs staged_{};
   VirtualClock* read_clock_ = nullptr;
   std::int64_t read_duration_ns_ = 0;

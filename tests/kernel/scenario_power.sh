@@ -11,15 +11,19 @@ export RIG_API=http://127.0.0.1:8080
 # The eye close to the home switch and fast homing, as in the durability test: every boot homes.
 # rig-sim on its own vCPU above rigd's SCHED_FIFO loop (80): its replies are due within 950 us.
 taskset 2 chrt -f 81 rig-sim --port 1502 --surface-mm 12 > /tmp/rig-sim.log 2>&1 &
-# TCG emulation runs both processes several times slower than the hardware: the link and
-# overrun interlocks get room (the subject here is the archive, not the link); the overrun storm
-# is off (64 overruns can never fall within a 1-cycle window): TCG overruns whole stretches.
+# TCG emulation runs both processes several times slower than the hardware: the link,
+# lost-write and overrun interlocks get room (the subject here is the archive, not the link):
+# rig-sim's replies miss the 950 us time-out in runs of cycles, so 3 lost writes in a row (the
+# shipped safety.max_failed_writes) faulted most boots while homing; 400 stays below the VM's
+# 1000 ms DAQ watchdog. The overrun storm is off (64 overruns can never fall within a 1-cycle
+# window): TCG overruns whole stretches.
 rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
   --set 'model.file="/etc/rig/paper-interpreted.toml"' --set 'api.web_root="/tmp"' \
   --set motion.surface_mm=12 --set motion.park_mm=10 --set motion.homing_velocity_mm_s=10 \
   --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
-  --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
-  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 > /tmp/rigd.log 2>&1 &
+  --set safety.max_failed_writes=400 --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
+  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 \
+  --set iop.settle_time_s=0.3 > /tmp/rigd.log 2>&1 &
 rigd=$!
 for i in $(seq 150); do rig status > /dev/null 2>&1 && break; kill -0 $rigd || break; sleep 0.2; done
 rig status > /dev/null || { cat /tmp/rigd.log /tmp/rig-sim.log; exit 1; }
@@ -37,8 +41,11 @@ for i in $(seq 20); do
   [ -n "$run" ] && break; sleep 0.2
 done
 [ -n "$run" ] || { cat /tmp/rigd.log; exit 1; }
-# The host cuts the power at a random moment after the first of these lines.
+# The host cuts the power at a random moment after the first of these lines: the loop's cycle
+# and state, then the run's last sample committed to the archive as a reader sees it (WAL: only
+# committed transactions), which must survive the cut.
 while :; do
   status=$(wget -qO- "$RIG_API/api/status")
-  echo "CYC $run $(echo "$status" | sed -n 's/.*"cycles":\([0-9]*\).*/\1/p') $(echo "$status" | sed -n 's/.*"state":"\([A-Za-z]*\)".*/\1/p')"
+  committed=$(sqlite3 "$archive" "SELECT IFNULL(MAX(idx), -1) FROM samples WHERE run_id = $run" 2>/dev/null || echo -1)
+  echo "CYC $run $(echo "$status" | sed -n 's/.*"cycles":\([0-9]*\).*/\1/p') $(echo "$status" | sed -n 's/.*"state":"\([A-Za-z]*\)".*/\1/p') ${committed:--1}"
 done

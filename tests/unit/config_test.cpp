@@ -78,6 +78,30 @@ TEST(Config, ADaqWatchdogOfZeroIsRefused) {
   EXPECT_NE(m.find("rigd.toml:2"), std::string::npos) << m;
 }
 
+TEST(Config, TheLostDaqWritesLimitDefaultsToThreeAndIsSet) {
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.toml")).loop.safety.max_failed_writes, 3);
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml")).loop.safety.max_failed_writes, 3);
+  const RigdConfig c = load_rigd_config(testing::source("config/rigd.sim.toml"), {"safety.max_failed_writes=12"});
+  EXPECT_EQ(c.loop.safety.max_failed_writes, 12);
+}
+
+TEST(Config, ABadLostDaqWritesLimitIsRefusedNamingTheKey) {
+  const std::string zero = message_for("[safety]\nmax_failed_writes = 0\n");
+  EXPECT_NE(zero.find("rigd.toml:2"), std::string::npos) << zero;
+  EXPECT_NE(zero.find("'safety.max_failed_writes'"), std::string::npos) << zero;
+  EXPECT_NE(zero.find("out of range [1, 1000]"), std::string::npos) << zero;
+  const std::string text = message_for("[safety]\nmax_failed_writes = \"3\"\n");
+  EXPECT_NE(text.find("'safety.max_failed_writes': expected an integer"), std::string::npos) << text;
+  const std::string fraction = message_for("[safety]\nmax_failed_writes = 2.5\n");
+  EXPECT_NE(fraction.find("'safety.max_failed_writes'"), std::string::npos) << fraction;
+  // Not judged before the DAQ's own watchdog stops the motor: 5 periods of 1 ms vs 5 ms.
+  const std::string slow = message_for("[daq]\nwatchdog_ms = 5\n[safety]\nmax_failed_writes = 5\n");
+  EXPECT_NE(slow.find("key 'safety.max_failed_writes' (5 loop periods) must be shorter than 'daq.watchdog_ms' (5 ms)"),
+            std::string::npos) << slow;
+  EXPECT_EQ(message_for("[daq]\nwatchdog_ms = 5\n[safety]\nmax_failed_writes = 4\n"), "no error");
+  EXPECT_NE(message_for("", {"safety.max_failed_writes=-1"}).find("--set safety.max_failed_writes=-1"), std::string::npos);
+}
+
 TEST(Config, AnAllowedOriginThatIsNotAnOriginIsRefused) {
   const std::string m = message_for("[api]\nallowed_origins = \"http://rig07:8080, rig08:8080\"\n");
   EXPECT_NE(m.find("key 'api.allowed_origins': 'rig08:8080' is not an origin"), std::string::npos) << m;
@@ -106,6 +130,7 @@ TEST(Config, EveryKeyIsDocumentedWithItsRange) {
   const std::string keys = describe_config_keys();
   EXPECT_NE(keys.find("loop.rate_hz (a number in [1000, 10000]): control and sampling rate [Hz]"), std::string::npos);
   EXPECT_NE(keys.find("safety.force_limit_N"), std::string::npos);
+  EXPECT_NE(keys.find("safety.max_failed_writes (an integer in [1, 1000])"), std::string::npos) << keys;
 }
 
 }  // namespace
