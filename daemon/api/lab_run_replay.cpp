@@ -8,8 +8,8 @@
 
 #include "lab_run_reader.hpp"
 #include "pg_connection.hpp"
+#include "replay_columns.hpp"
 #include "run_types.hpp"
-#include "stream_hub.hpp"
 
 namespace rig::api {
 namespace {
@@ -71,36 +71,13 @@ void add_samples(nlohmann::json& j, lab_archive::PgConnection& db, const std::st
       "ORDER BY idx LIMIT $3",
       {uuid, std::to_string(query.from_cycle), std::to_string(query.limit + 1)}, "read samples of " + uuid);
   const int rows = std::min<int>(q.rows(), static_cast<int>(query.limit));
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::vector<std::int64_t> cycle;
-  std::vector<double> t, x, force, predicted, residual, iop;
-  std::vector<std::string> phase;
-  double hold_x_mm = 0.0;
+  ReplayColumns columns(model, info.surface_mm, info.iop_mmHg);
   for (int r = 0; r < rows; ++r) {
-    const auto cut_phase = q.is_null(r, 5) ? rt::CutPhase::kNone : static_cast<rt::CutPhase>(q.integer(r, 5));
-    const double x_mm = q.real(r, 2) - info.surface_mm;
-    const double m = model ? service::StreamHub::predict_at(*model, cut_phase, x_mm, info.iop_mmHg, hold_x_mm) : kNaN;
-    cycle.push_back(q.integer(r, 0));
-    t.push_back(q.real(r, 1));
-    x.push_back(x_mm);
-    force.push_back(q.real(r, 3));
-    predicted.push_back(m);
-    residual.push_back(q.real(r, 3) - m);
-    iop.push_back(q.is_null(r, 4) ? kNaN : q.real(r, 4));
-    phase.emplace_back(rt::to_string(cut_phase));
+    const auto phase = q.is_null(r, 5) ? rt::CutPhase::kNone : static_cast<rt::CutPhase>(q.integer(r, 5));
+    columns.add(q.integer(r, 0), q.real(r, 1), q.real(r, 2), q.real(r, 3),
+                q.is_null(r, 4) ? std::numeric_limits<double>::quiet_NaN() : q.real(r, 4), phase);
   }
-  j["next_cycle"] = cycle.empty() ? query.from_cycle : cycle.back() + 1;
-  j["more"] = q.rows() > rows;
-  j["cycle"] = cycle;
-  j["t_s"] = t;
-  j["x_mm"] = x;
-  j["force_N"] = force;
-  j["model_N"] = predicted;
-  j["residual_N"] = residual;
-  j["iop_mmHg"] = iop;
-  j["phase"] = phase;
-  j["surface_mm"] = info.surface_mm;
-  j["model_iop_mmHg"] = info.iop_mmHg;
+  columns.write(j, query.from_cycle, q.rows() > rows);
 }
 
 }  // namespace

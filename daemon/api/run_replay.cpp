@@ -7,9 +7,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "replay_columns.hpp"
 #include "run_types.hpp"
 #include "sqlite_handle.hpp"
-#include "stream_hub.hpp"
 
 namespace rig::api {
 namespace {
@@ -61,42 +61,18 @@ void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id,
       "SELECT idx, t_s, position_mm, force_N, iop_mmHg, phase FROM samples WHERE run_id = ? AND "
       "idx >= ? ORDER BY idx LIMIT ?");
   q.bind(1, run_id).bind(2, query.from_cycle).bind(3, query.limit + 1);
-  std::vector<std::int64_t> cycle;
-  std::vector<double> t, x, force, predicted, residual, iop;
-  std::vector<std::string> phase;
-  double hold_x_mm = 0.0;
+  ReplayColumns columns(model, info.surface_mm, info.iop_mmHg);
   bool more = false;
   while (q.step()) {
-    if (static_cast<std::int64_t>(cycle.size()) == query.limit) {
+    if (static_cast<std::int64_t>(columns.size()) == query.limit) {
       more = true;
       break;
     }
-    const auto cut_phase = static_cast<rt::CutPhase>(q.integer(5));
-    const double x_mm = q.real(2) - info.surface_mm;
-    const double m =
-        model ? service::StreamHub::predict_at(*model, cut_phase, x_mm, info.iop_mmHg, hold_x_mm)
-              : std::numeric_limits<double>::quiet_NaN();
-    cycle.push_back(q.integer(0));
-    t.push_back(q.real(1));
-    x.push_back(x_mm);
-    force.push_back(q.real(3));
-    predicted.push_back(m);
-    residual.push_back(q.real(3) - m);
-    iop.push_back(q.maybe_real(4).value_or(std::numeric_limits<double>::quiet_NaN()));
-    phase.emplace_back(rt::to_string(cut_phase));
+    columns.add(q.integer(0), q.real(1), q.real(2), q.real(3),
+                q.maybe_real(4).value_or(std::numeric_limits<double>::quiet_NaN()),
+                static_cast<rt::CutPhase>(q.integer(5)));
   }
-  j["next_cycle"] = cycle.empty() ? query.from_cycle : cycle.back() + 1;
-  j["more"] = more;
-  j["cycle"] = cycle;
-  j["t_s"] = t;
-  j["x_mm"] = x;
-  j["force_N"] = force;
-  j["model_N"] = predicted;
-  j["residual_N"] = residual;
-  j["iop_mmHg"] = iop;
-  j["phase"] = phase;
-  j["surface_mm"] = info.surface_mm;
-  j["model_iop_mmHg"] = info.iop_mmHg;
+  columns.write(j, query.from_cycle, more);
 }
 
 }  // namespace
