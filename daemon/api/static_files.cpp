@@ -27,8 +27,12 @@ Response serve_static(const Request& request, const std::string& web_root) {
   std::string target(request.target());
   target = target.substr(0, target.find('?'));
   if (target == "/") target = "/index.html";
-  if (target.find("..") != std::string::npos || target.find('\0') != std::string::npos) {
-    return error_response(request, http::status::bad_request, "invalid path");
+  // An origin-form target always starts with '/' (RFC 9112 §3.2.1); anything else
+  // ("?x", "*", "http://…") names no file of ours.
+  if (target.empty() || target.front() != '/' || target.find("..") != std::string::npos ||
+      target.find('\0') != std::string::npos) {
+    return error_response(request, http::status::bad_request,
+                          "invalid path: the request target must start with '/'");
   }
   std::error_code ec;
   const std::filesystem::path root = std::filesystem::weakly_canonical(web_root, ec);

@@ -1,14 +1,24 @@
 #include "frame_sample_mapper.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace rig::archive {
 
 void FrameSampleMapper::on_trigger(std::int64_t sample_index, std::uint64_t host_ns) {
   std::lock_guard lock(mutex_);
-  pending_.push_back({sample_index, host_ns});
+  pending_.push_back({sample_index, host_ns, host_ns});
   constexpr std::size_t kMaxPending = 4096;  // a camera that never answers must not grow this
   if (pending_.size() > kMaxPending) pending_.pop_front(), ++lost_;
+}
+
+void FrameSampleMapper::on_trigger_acknowledged(std::int64_t sample_index, std::uint64_t host_ns) {
+  std::lock_guard lock(mutex_);
+  for (auto it = pending_.rbegin(); it != pending_.rend(); ++it) {
+    if (it->sample_index != sample_index) continue;
+    it->reached_by_ns = std::max(it->host_ns, host_ns);
+    return;
+  }
 }
 
 void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
@@ -24,13 +34,13 @@ void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
 // smallest (arrival - camera time) seen: that is the clock offset plus the fastest transfer,
 // so the estimate falls just after the frame's own trigger (by that fastest transfer) and
 // before the next one, however long this frame waited in queues. The frame answers the
-// latest trigger raised before the estimate.
+// latest trigger that had reached the camera before the estimate.
 std::size_t FrameSampleMapper::answered_trigger(std::uint64_t camera_ns, std::uint64_t arrival_ns) {
   const auto offset = static_cast<std::int64_t>(arrival_ns) - static_cast<std::int64_t>(camera_ns);
   if (!camera_to_host_ns_ || offset < *camera_to_host_ns_) camera_to_host_ns_ = offset;
   const std::int64_t exposed_host_ns = static_cast<std::int64_t>(camera_ns) + *camera_to_host_ns_;
   std::size_t best = 0;
-  for (std::size_t i = 1; i < pending_.size() && static_cast<std::int64_t>(pending_[i].host_ns) <= exposed_host_ns; ++i) best = i;
+  for (std::size_t i = 1; i < pending_.size() && static_cast<std::int64_t>(pending_[i].reached_by_ns) <= exposed_host_ns; ++i) best = i;
   return best;
 }
 

@@ -10,6 +10,11 @@
 // can be tied one trigger late. Without camera timestamps (0), frames and triggers pair in
 // order and a gap in the camera's frame ids drops as many triggers. A frame that arrives
 // before any pending trigger was raised is not tied to a sample.
+// A software trigger is a command the camera acknowledges: it reached the camera between
+// its raise and its acknowledgement. When the host stalls between the two (a loaded
+// machine), the raise time says too little: the next trigger's raise can precede this
+// trigger's exposure. So a trigger whose acknowledgement is reported is judged by that
+// later time when deciding which trigger a frame answers.
 #include <cstdint>
 #include <deque>
 #include <mutex>
@@ -20,6 +25,9 @@ namespace rig::archive {
 class FrameSampleMapper {
  public:
   void on_trigger(std::int64_t sample_index, std::uint64_t host_ns);
+  // The camera acknowledged the trigger raised at sample_index at host_ns [ns,
+  // CLOCK_MONOTONIC]; a trigger already answered (or never raised) is ignored.
+  void on_trigger_acknowledged(std::int64_t sample_index, std::uint64_t host_ns);
   // frame_id: the camera's frame/block counter; camera_ns: its exposure timestamp (0 if it
   // has none); arrival [ns, CLOCK_MONOTONIC].
   std::optional<std::int64_t> on_frame(std::uint64_t frame_id, std::uint64_t camera_ns, std::uint64_t arrival_ns);
@@ -31,7 +39,8 @@ class FrameSampleMapper {
  private:
   struct Trigger {
     std::int64_t sample_index;
-    std::uint64_t host_ns;
+    std::uint64_t host_ns;          // raised [ns]
+    std::uint64_t reached_by_ns;    // reached the camera by then [ns]: its ack, or host_ns
   };
   mutable std::mutex mutex_;  // triggers and frames come from different threads (never the RT one)
   std::deque<Trigger> pending_;

@@ -76,5 +76,15 @@ TEST_F(ApiRouterTest, ARefusalQuotingBytesThatAreNotUtf8IsAnsweredAsValidJson) {
   EXPECT_TRUE(nlohmann::json::accept(path.body())) << path.body();
 }
 
+// Found by fuzz_api_router in CI: a target that does not start with '/' ("?!pi/runs") reached
+// the static-file server, whose substr(1) threw on the empty path: a 500 for a client's typo.
+TEST_F(ApiRouterTest, ATargetThatDoesNotStartWithASlashIsABadRequestNamingWhy) {
+  for (const char* target : {"?!pi/runs", "?", "*", "index.html", "http://rig/index.html"}) {
+    const Response r = get(target);
+    EXPECT_EQ(r.result(), http::status::bad_request) << target << ": " << r.body();
+    EXPECT_NE(r.body().find("must start with '/'"), std::string::npos) << target << ": " << r.body();
+  }
+}
+
 }  // namespace
 }  // namespace rig::api

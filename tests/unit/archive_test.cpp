@@ -168,6 +168,29 @@ TEST(FrameSampleMapper, WithoutCameraTimestampsPairsInOrderAndSkipsTriggersForMi
   EXPECT_EQ(mapper.lost_frames(), 1U);
 }
 
+// The CI failure of 2026-11-23 (fake GigE camera on a loaded machine): trigger 110's command
+// was raised at 20 ms but reached the camera only at 58 ms (the host stalled); the camera
+// exposed at 60 ms; trigger 120 was raised at 65 ms, reached it at 66 ms, exposed at 100 ms.
+// By raise times frame 1 looks like trigger 120's; by acknowledgement it is 110's.
+TEST(FrameSampleMapper, ATriggerDelayedOnItsWayToTheCameraStillGetsItsOwnFrame) {
+  FrameSampleMapper mapper;
+  mapper.on_trigger(100, 10 * kMs);
+  mapper.on_trigger_acknowledged(100, 11 * kMs);
+  EXPECT_EQ(mapper.on_frame(0, 12 * kMs, 13 * kMs), 100);  // learns the offset: same clock
+  mapper.on_trigger(110, 20 * kMs);
+  mapper.on_trigger_acknowledged(110, 58 * kMs);
+  mapper.on_trigger(120, 65 * kMs);
+  mapper.on_trigger_acknowledged(120, 66 * kMs);
+  EXPECT_EQ(mapper.on_frame(1, 60 * kMs, 70 * kMs), 110);
+  EXPECT_EQ(mapper.on_frame(2, 100 * kMs, 101 * kMs), 120);
+  EXPECT_EQ(mapper.lost_frames(), 0U);
+  EXPECT_EQ(mapper.untied_frames(), 0U);
+  mapper.on_trigger_acknowledged(110, 200 * kMs);  // already answered: ignored
+  mapper.on_trigger_acknowledged(999, 200 * kMs);  // never raised: ignored
+  mapper.on_trigger(130, 110 * kMs);
+  EXPECT_EQ(mapper.on_frame(3, 120 * kMs, 121 * kMs), 130);
+}
+
 TEST(FrameSampleMapper, AFrameBeforeAnyTriggerIsNotTiedToASample) {
   FrameSampleMapper mapper;
   EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 5 * kMs), std::nullopt);
