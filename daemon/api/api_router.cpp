@@ -16,6 +16,7 @@
 #include "lab_service.hpp"
 #include "sqlite_handle.hpp"
 #include "status_view.hpp"
+#include "json_text.hpp"
 
 namespace rig::api {
 namespace {
@@ -62,7 +63,7 @@ Response error_response(const Request& request, http::status status, const std::
   if (!field.empty()) reply.field = field;
   // The error may quote what the client sent (a Host, a path, a JSON parser's view of the
   // body): bytes that are not UTF-8 are replaced, not thrown about (fuzz_api_router).
-  return make_response(request, status, nlohmann::json(reply).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
+  return make_response(request, status, json_text(nlohmann::json(reply)));
 }
 
 ApiRouter::ApiRouter(boost::asio::io_context& io, ApiContext& context)
@@ -160,7 +161,7 @@ class CommandWait : public std::enable_shared_from_this<CommandWait> {
     reply.result = std::string(rt::to_string(result));
     reply.state = std::string(rt::to_string(st.state));
     if (command_.params.run_id != 0) reply.run_id = command_.params.run_id;
-    respond_(make_response(request_, reply.ok ? http::status::ok : http::status::conflict, nlohmann::json(reply).dump()));
+    respond_(make_response(request_, reply.ok ? http::status::ok : http::status::conflict, json_text(nlohmann::json(reply))));
   }
 
   boost::asio::steady_timer timer_;
@@ -262,7 +263,7 @@ void ApiRouter::haptic(const Request& request, const std::string& path, Responde
   HapticControl* control = context_->haptic;
   if (control == nullptr) return respond(error_response(request, http::status::service_unavailable, "haptic playback is not available"));
   const auto reply = [&](http::status status) {
-    respond(make_response(request, status, nlohmann::json(control->status()).dump()));
+    respond(make_response(request, status, json_text(nlohmann::json(control->status()))));
   };
   if (request.method() == http::verb::get) return reply(http::status::ok);
   if (path == "/api/haptic/stop") {

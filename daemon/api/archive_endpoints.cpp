@@ -10,6 +10,7 @@
 #include "run_csv.hpp"
 #include "run_replay.hpp"
 #include "sqlite_handle.hpp"
+#include "json_text.hpp"
 
 namespace rig::api {
 namespace {
@@ -49,7 +50,7 @@ Response samples_response(const Request& request, archive::Archive& archive, std
     j["x_mm"].push_back(run.x_mm[i]);
     j["force_N"].push_back(run.force_N[i]);
   }
-  return make_response(request, http::status::ok, j.dump());
+  return make_response(request, http::status::ok, json_text(j));
 }
 
 }  // namespace
@@ -83,7 +84,7 @@ void ArchiveEndpoints::get_runs(const Request& request, Responder respond) {
   on_archive(request, std::move(respond), [request](archive::Archive& a) {
     proto::RunList list;
     for (const auto& row : a.list_runs()) list.runs.push_back(summary_of(row));
-    return make_response(request, http::status::ok, nlohmann::json(list).dump());
+    return make_response(request, http::status::ok, json_text(nlohmann::json(list)));
   });
 }
 
@@ -98,7 +99,7 @@ void ArchiveEndpoints::get_run(const Request& request, std::int64_t run_id, cons
     detail.run = summary_of(*row);
     for (const auto& [k, v] : a.run_meta(run_id)) detail.meta[k] = v;
     for (const auto& e : a.run_events(run_id)) detail.events.push_back({e.t_s, e.kind, e.message});
-    return make_response(request, http::status::ok, nlohmann::json(detail).dump());
+    return make_response(request, http::status::ok, json_text(nlohmann::json(detail)));
   });
 }
 

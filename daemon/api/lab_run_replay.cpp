@@ -10,6 +10,7 @@
 #include "pg_connection.hpp"
 #include "replay_columns.hpp"
 #include "run_types.hpp"
+#include "json_text.hpp"
 
 namespace rig::api {
 namespace {
@@ -111,7 +112,7 @@ std::string lab_run_list_json(lab_archive::LabRunReader& reader, const std::vect
                     {"eye_lot", r.eye_lot}, {"started_at", r.started_at}, {"outcome", r.outcome},
                     {"samples", r.samples}});
   }
-  return nlohmann::json{{"runs", std::move(runs)}, {"total", rows.size()}}.dump();
+  return json_text(nlohmann::json{{"runs", std::move(runs)}, {"total", rows.size()}});
 }
 
 std::string lab_run_stream_json(lab_archive::LabRunReader& reader, const std::string& run_uuid,
@@ -130,7 +131,7 @@ std::string lab_run_stream_json(lab_archive::LabRunReader& reader, const std::st
   for (int r = 0; r < ev.rows(); ++r) events.push_back({{"t_s", ev.real(r, 0)}, {"kind", ev.text(r, 1)}, {"message", ev.text(r, 2)}});
   j["events"] = std::move(events);
   j["frames"] = nlohmann::json::array();
-  return j.dump();
+  return json_text(j);
 }
 
 }  // namespace rig::api

@@ -10,6 +10,7 @@
 #include "replay_columns.hpp"
 #include "run_types.hpp"
 #include "sqlite_handle.hpp"
+#include "json_text.hpp"
 
 namespace rig::api {
 namespace {
@@ -112,7 +113,7 @@ std::string run_stream_json(archive::Archive& archive, std::int64_t run_id,
       frames.push_back({{"frame_no", f.frame_no}, {"sample_index", f.sample_index}});
   }
   j["frames"] = std::move(frames);
-  return j.dump();
+  return json_text(j);
 }
 
 FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id,

@@ -7,6 +7,7 @@
 
 #include "recorder.hpp"
 #include "rig/proto/messages.hpp"
+#include "json_text.hpp"
 
 namespace rig::api {
 
@@ -52,7 +53,7 @@ std::string status_json(ApiContext& c) {
   s.surface_mm = c.config->loop.motion.surface_mm;
   // Validated against proto::LabArchiveStatus, so the page and `rig status` read one schema.
   if (c.lab_archive_status) s.lab_archive = nlohmann::json::parse(c.lab_archive_status()).get<proto::LabArchiveStatus>();
-  return nlohmann::json(s).dump();
+  return json_text(nlohmann::json(s));
 }
 
 std::string prometheus_metrics(ApiContext& c) {

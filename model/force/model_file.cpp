@@ -2,6 +2,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <set>
 
@@ -153,7 +154,22 @@ toml::table terms_table(const std::vector<UserTerm>& user_terms) {
   return terms;
 }
 
+// A model file is a small TOML file. A device (/dev/zero), a FIFO or a directory named by
+// a client of POST /api/model would block or exhaust memory in the parser, so it is refused
+// before any byte is read.
+void require_small_regular_file(const std::string& path) {
+  constexpr std::uintmax_t kMaxModelFileBytes = 4U << 20U;  // [bytes]; ours are ~2 kB
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec || !std::filesystem::exists(status)) throw ModelFileError(path + ": no such model file");
+  if (!std::filesystem::is_regular_file(status)) throw ModelFileError(path + ": not a regular file (a model file is a TOML file)");
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec || bytes > kMaxModelFileBytes)
+    throw ModelFileError(path + ": " + std::to_string(bytes) + " bytes, more than a model file's limit of 4 MiB");
+}
+
 toml::table parse(const std::string& path) {
+  require_small_regular_file(path);
   try {
     return toml::parse_file(path);
   } catch (const toml::parse_error& e) {

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "api_router.hpp"
+#include "archive.hpp"
 #include "stream_hub.hpp"
 #include "test_paths.hpp"
 
@@ -74,6 +75,22 @@ TEST_F(ApiRouterTest, ARefusalQuotingBytesThatAreNotUtf8IsAnsweredAsValidJson) {
   const Response path = get("/api/\xc3\x28nothing");
   EXPECT_EQ(path.result(), http::status::not_found);
   EXPECT_TRUE(nlohmann::json::accept(path.body())) << path.body();
+}
+
+// Found while fuzzing (issue 14): a run imported from someone's CSV can carry bytes that are
+// not UTF-8 in its eye id or notes; listing or opening it answered a 500.
+TEST_F(ApiRouterTest, ARunWhoseTextIsNotUtf8IsListedAndOpenedAsValidJson) {
+  std::int64_t run_id = 0;
+  {
+    archive::Archive archive(config_.archive.path);
+    run_id = archive.create_run(archive::NewRun{"EYE\xff\xfe-7"});
+  }
+  for (const std::string& target : {std::string("/api/runs"), "/api/runs/" + std::to_string(run_id)}) {
+    const Response r = get(target);
+    EXPECT_EQ(r.result(), http::status::ok) << target << ": " << r.body();
+    EXPECT_TRUE(nlohmann::json::accept(r.body())) << target << ": " << r.body();
+    EXPECT_NE(r.body().find("EYE\xef\xbf\xbd"), std::string::npos) << target << ": " << r.body();  // U+FFFD
+  }
 }
 
 // Found by fuzz_api_router in CI: a target that does not start with '/' ("?!pi/runs") reached

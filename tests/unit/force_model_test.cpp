@@ -66,6 +66,22 @@ TEST(ModelFile, AnUnknownKeyNamesFileLineAndKey) {
   }
 }
 
+// Found while fuzzing (issue 14): POST /api/model names a file; /dev/zero kept the parser
+// reading forever on the API's thread.
+TEST(ModelFile, ADeviceADirectoryOrAMissingFileIsRefusedBeforeReadingNamingThePath) {
+  testing::ScratchDir dir("modelfile-kind");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"/dev/zero", "not a regular file"}, {dir.path().string(), "not a regular file"}, {dir.file("none.toml"), "no such model file"}};
+  for (const auto& [path, why] : cases) {
+    try {
+      ForceModel::load(path);
+      ADD_FAILURE() << path << " was loaded";
+    } catch (const ModelFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": " + why), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(ModelFile, SavingAndLoadingKeepsParametersAndEffects) {
   testing::ScratchDir dir("modelsave");
   ForceModel m = ForceModel::paper_interpreted();
