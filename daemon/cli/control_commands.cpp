@@ -143,6 +143,19 @@ struct RunOptions {
 
 void on_interrupt(int /*signal*/) { g_interrupted.store(true); }
 
+// The run's archive entry once the recorder has closed it: the loop's state says the run
+// ended a moment before the recorder's last commit writes its outcome (longer on a busy
+// machine), so an outcome still "recording" is asked again, for up to 10 s.
+nlohmann::json archived_run_once_closed(const CliContext& c, std::int64_t run_id) {
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (true) {
+    nlohmann::json detail = parse_reply(c.client().get("/api/runs/" + std::to_string(run_id)), "run detail");
+    const std::string outcome = detail["run"].value("outcome", "");
+    if ((outcome != "recording" && outcome != "armed") || std::chrono::steady_clock::now() > give_up) return detail;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
 nlohmann::json wait_for_run_end(const CliContext& c, bool print_progress) {
   std::signal(SIGINT, on_interrupt);
   const ApiClient client = c.client();
@@ -201,7 +214,8 @@ int run_cut(const CliContext& c, RunOptions& o, bool start) {
   if (!c.json()) std::cout << "run " << run_id << " armed (eye " << r.eye_id << ", IOP " << r.iop_mmHg << " mmHg, " << r.velocity_mm_s << " mm/s, " << r.depth_mm << " mm)\n";
   if (o.no_wait || !start) return 0;
   const nlohmann::json end = wait_for_run_end(c, true);
-  const nlohmann::json detail = parse_reply(c.client().get("/api/runs/" + std::to_string(run_id)), "run detail");
+  if (end["state"] == "Fault" && !c.json()) std::cerr << "run: the rig faulted: " << end["fault"].get<std::string>() << "\n";
+  const nlohmann::json detail = archived_run_once_closed(c, run_id);
   if (c.json()) {
     std::cout << detail["run"].dump() << "\n";
   } else {

@@ -1,6 +1,7 @@
 // libFuzzer target: what rigd does with the bytes of an API request before any handler
 // runs: Beast's HTTP parser with the server's limits, then the JSON body and the generated
-// RunRequest validation. Refusals are exceptions or parser errors; anything else is a bug.
+// validation of every request body the API takes (run, model, lab, haptic), up to the
+// server's 64 KiB body limit. Refusals are exceptions or parser errors; anything else is a bug.
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
 
@@ -10,6 +11,28 @@
 #include "rig/proto/messages.hpp"
 
 namespace http = boost::beast::http;
+
+namespace {
+
+// Each decoder on its own: one refusing must not hide another's crash.
+template <typename Message>
+void decode(const nlohmann::json& body) {
+  try {
+    const Message message = body.get<Message>();
+    (void)nlohmann::json(message).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // and back
+  } catch (const nlohmann::json::exception&) {
+  } catch (const rig::proto::ProtoError&) {
+  }
+}
+
+void decode_as_each_body(const nlohmann::json& body) {
+  decode<rig::proto::RunRequest>(body);
+  decode<rig::proto::ModelSelect>(body);
+  decode<rig::proto::LabRequest>(body);
+  decode<rig::proto::HapticRequest>(body);
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   http::request_parser<http::string_body> parser;
@@ -23,9 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   (void)request.target();
   try {
     const nlohmann::json body = nlohmann::json::parse(request.body());
-    (void)body.get<rig::proto::RunRequest>();
+    decode_as_each_body(body);
   } catch (const nlohmann::json::exception&) {
-  } catch (const rig::proto::ProtoError&) {
   }
   return 0;
 }

@@ -63,6 +63,18 @@ TEST(InputDebouncer, LatchesAPressShorterThanOneReadPeriod) {
   EXPECT_FALSE(d.read(0, 3 * kMs));
 }
 
+// Found in the QEMU tier on a loaded machine: gpio-sim's press and release, 1 us apart, both
+// came as edges labelled inactive (the kernel read the line after the release).
+TEST(InputDebouncer, APulseTheKernelLabelledInactiveTwiceIsStillAPress) {
+  InputDebouncer d(2 * kMs);
+  const std::array<bool, 1> idle{false};
+  d.reset(idle, 0);
+  d.on_edge(0, false, 1 * kMs);
+  d.on_edge(0, false, 1 * kMs + 1'000);
+  EXPECT_TRUE(d.read(0, 2 * kMs)) << "the press must be seen once";
+  EXPECT_FALSE(d.read(0, 3 * kMs));
+}
+
 struct GpioFixture : ::testing::Test {
   ManualClock clock;
   SimGpioLineBank* bank = nullptr;

@@ -9,6 +9,11 @@ void InputDebouncer::reset(std::span<const bool> levels, std::int64_t now_ns) no
 void InputDebouncer::on_edge(std::size_t input, bool active, std::int64_t timestamp_ns) noexcept {
   if (input >= kMaxInputs) return;
   Line& line = lines_[input];
+  // An edge to the level the line already had: the kernel labels an edge by reading the line
+  // when it handles the interrupt, so a pulse shorter than that latency (a slap on the
+  // e-stop, seen under a loaded or emulated kernel) arrives as two edges to "inactive". A
+  // line does not change without going somewhere: treat it as a press, never lose it.
+  if (!active && !line.raw) line.latched = true;
   if (line.raw != active) line.raw_since_ns = timestamp_ns;  // repeated levels extend nothing
   line.raw = active;
   if (active) {
