@@ -41,12 +41,27 @@ bool port_free(int port) {
   }
 }
 
+// A fault of the loop's timing (the DAQ link, the DAQ's watchdog, loop overruns): on a real
+// rig a fault of the machine; here rigd's 1 kHz loop and the simulated DAQ share the CPUs
+// with whatever else runs, so the demo says so and cuts again (docs/faults.md).
+struct TimingFault : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+bool is_timing_fault(const std::string& fault) {
+  return fault.rfind("DAQ link lost", 0) == 0 || fault.rfind("DAQ watchdog tripped", 0) == 0 || fault.rfind("loop overrun storm", 0) == 0;
+}
+
 nlohmann::json wait_state(const ApiClient& api, const std::function<bool(const nlohmann::json&)>& done, int timeout_s, const std::string& what) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);
   while (std::chrono::steady_clock::now() < end) {
     const nlohmann::json s = nlohmann::json::parse(api.get("/api/status").body);
     if (done(s)) return s;
-    if (s["state"] == "Fault" || s["state"] == "EStop") throw std::runtime_error(what + ": rig went to " + s["state"].get<std::string>() + ": " + s["fault"].get<std::string>());
+    if (s["state"] == "Fault" || s["state"] == "EStop") {
+      const std::string why = what + ": rig went to " + s["state"].get<std::string>() + ": " + s["fault"].get<std::string>();
+      if (s["state"] == "Fault" && is_timing_fault(s["fault"])) throw TimingFault(why);
+      throw std::runtime_error(why);
+    }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   throw std::runtime_error(what + ": no result within " + std::to_string(timeout_s) + " s");
@@ -113,6 +128,7 @@ void print_summary(const nlohmann::json& j) {
                {"model RMSE", j.contains("model_rmse_N") ? fixed(j["model_rmse_N"], 4) + " N vs " + j["model_file"].get<std::string>() : "-"},
                {"loop", "jitter p99 " + fixed(j["loop_jitter_p99_us"], 0) + " us, overruns " + std::to_string(j["loop_overruns"].get<std::int64_t>()) +
                             (j["realtime"] ? ", SCHED_FIFO" : ", not real-time")},
+               {"accidental faults", std::to_string(j["accidental_faults"].get<int>()) + " (timing faults of the simulated rig, cut again)"},
                {"live overlay", j["overlay_url"]}});
 }
 
@@ -131,11 +147,27 @@ int run_demo(const CliContext& c, const DemoOptions& o) {
   const std::string ready = rigd.wait_for_line("ready, API on", 15000);
   const ApiClient api(ready.substr(ready.find("http://")), "");
   nlohmann::json summary;
-  try {
-    summary = summarize(c, api, run_the_cut(api, o, c.json()), archive_path);
-  } catch (const std::exception& e) {
-    std::cerr << "[demo] failed: " << e.what() << "\n[demo] logs: " << state << "/rigd.log, " << state << "/rig-sim.log\n";
-    return 1;
+  constexpr int kCuts = 3;  // a timing fault is reported and the cut tried again, twice at most
+  for (int attempt = 1; summary.is_null(); ++attempt) {
+    try {
+      summary = summarize(c, api, run_the_cut(api, o, c.json()), archive_path);
+      summary["accidental_faults"] = attempt - 1;
+    } catch (const TimingFault& e) {
+      std::cerr << "[demo] " << e.what() << "\n[demo] a timing fault of the simulated rig: its 1 kHz loop and simulated DAQ share this"
+                << " machine's CPUs with everything else (logs: " << state << "/rigd.log)\n";
+      if (attempt == kCuts) return 1;
+      std::cerr << "[demo] reset, cutting again (" << attempt + 1 << " of " << kCuts << ")\n";
+      api.post("/api/reset");
+      try {  // rigd reconnects to the DAQ on its own; homing is refused until it has
+        wait_state(api, [](const nlohmann::json& s) { return s["interlocks"]["link_ok"] == true; }, 10, "reconnecting to the DAQ");
+      } catch (const std::exception& reconnect) {
+        std::cerr << "[demo] failed: " << reconnect.what() << "\n";
+        return 1;
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "[demo] failed: " << e.what() << "\n[demo] logs: " << state << "/rigd.log, " << state << "/rig-sim.log\n";
+      return 1;
+    }
   }
   if (c.json()) std::cout << summary.dump() << std::endl;
   else print_summary(summary);
