@@ -25,11 +25,8 @@ TEST(RigdEndToEnd, ACutThroughTheApiIsArchivedCompleteWithItsMetadata) {
   ScratchDir dir("e2e-cut");
   RigProcesses rig(dir);
   std::string why;
-  ASSERT_TRUE(rig.prepare(why)) << why;
-  const auto reply = rig.api().post("/api/run", kRun);
-  ASSERT_EQ(reply.status, 200) << reply.body;
-  const std::int64_t run_id = json::parse(reply.body)["run_id"];
-  ASSERT_TRUE(rig.wait_state("Done", 60)) << rig.status().dump();
+  const std::int64_t run_id = rig.cut(kRun, why);
+  ASSERT_NE(run_id, 0) << why;
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   const json detail = json::parse(rig.api().get("/api/runs/" + std::to_string(run_id)).body);
   EXPECT_EQ(detail["run"]["outcome"], "completed");
@@ -46,11 +43,8 @@ TEST(RigdEndToEnd, EveryCameraFrameOfACutGoesToTheRunsFrameFileIndexedByItsSampl
   ScratchDir dir("e2e-frames");
   RigProcesses rig(dir);
   std::string why;
-  ASSERT_TRUE(rig.prepare(why)) << why;
-  const auto reply = rig.api().post("/api/run", R"({"eye_id":"F1","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":6})");
-  ASSERT_EQ(reply.status, 200) << reply.body;
-  const std::int64_t run_id = json::parse(reply.body)["run_id"];
-  ASSERT_TRUE(rig.wait_state("Done", 60)) << rig.status().dump();
+  const std::int64_t run_id = rig.cut(R"({"eye_id":"F1","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":6})", why);
+  ASSERT_NE(run_id, 0) << why;
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   archive::Archive store(rig.archive_path(), true);
   const auto frames = store.run_frames(run_id);
