@@ -59,33 +59,47 @@ std::vector<double> own_eye_residuals(const Predictor& predictor, const Prepared
 
 std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
 
-// One run, no other runs to learn from: folds are time blocks of the run itself.
-CvResult within_run(const Predictor& predictor, const PreparedRun& run, const StartValues& start_for) {
+// One time block of a run held out: the residuals of its samples (rows `test`, in order) for
+// a fit on the other blocks; per-run coefficients are those of the training blocks.
+void block_residuals(const Predictor& predictor, const PreparedRun& run, const PreparedRun& train, const ModelParams& params,
+                     const std::vector<std::size_t>& test, std::vector<double>& out) {
+  Eigen::VectorXd beta;
+  Fitter::residuals(predictor, train, params, train.fit_rows, &beta);
+  std::vector<double> prediction;
+  Eigen::MatrixXd X;
+  predictor.evaluate(run, params, test, prediction, predictor.linear_columns() > 0 ? &X : nullptr);
+  out.resize(test.size());
+  for (std::size_t n = 0; n < test.size(); ++n) {
+    double r = run.data->force_N[test[n]] - prediction[n];
+    if (beta.size() > 0) r -= X.row(static_cast<Eigen::Index>(n)).dot(beta);
+    out[n] = r;
+  }
+}
+
+// One run, no other runs to learn from: folds are time blocks of the run itself. Each fold's
+// model (forms, start values) is chosen on a copy of the run whose fit rows are the other
+// blocks' samples.
+CvResult within_run(const PreparedRun& run, const TrainedModelFor& model_for) {
   CvResult out;
-  out.full = Fitter(predictor, {&run}).fit(start_for({&run}));
+  const TrainedModel full = model_for({&run});
+  out.full = Fitter(*full.predictor, {&run}).fit(full.start);
+  out.full_forms = full.forms;
   std::vector<double> residual(run.analysed.size());
   for (std::size_t b = 0; b < kBlocks; ++b) {
     PreparedRun train = run;
     train.fit_rows.clear();
-    std::vector<std::size_t> test;
+    std::vector<std::size_t> test, test_at;
     for (std::size_t k = 0; k < run.analysed.size(); ++k) {
-      (block_of(k, run.analysed.size()) == b ? test : train.fit_rows).push_back(run.analysed[k]);
+      const bool held_out = block_of(k, run.analysed.size()) == b;
+      (held_out ? test : train.fit_rows).push_back(run.analysed[k]);
+      if (held_out) test_at.push_back(k);
     }
-    out.folds.push_back(Fitter(predictor, {&train}).fit(start_for({&train})));
-    const FitResult& fit = out.folds.back();
-    Eigen::VectorXd beta;
-    Fitter::residuals(predictor, train, fit.params, train.fit_rows, &beta);
-    std::vector<double> prediction;
-    Eigen::MatrixXd X;
-    predictor.evaluate(run, fit.params, test, prediction, predictor.linear_columns() > 0 ? &X : nullptr);
-    std::size_t n = 0;
-    for (std::size_t k = 0; k < run.analysed.size(); ++k) {
-      if (block_of(k, run.analysed.size()) != b) continue;
-      double r = run.data->force_N[run.analysed[k]] - prediction[n];
-      if (beta.size() > 0) r -= X.row(static_cast<Eigen::Index>(n)).dot(beta);
-      residual[k] = r;
-      ++n;
-    }
+    const TrainedModel fold = model_for({&train});
+    out.folds.push_back(Fitter(*fold.predictor, {&train}).fit(fold.start));
+    out.fold_forms.push_back(fold.forms);
+    std::vector<double> block;
+    block_residuals(*fold.predictor, run, train, out.folds.back().params, test, block);
+    for (std::size_t n = 0; n < test_at.size(); ++n) residual[test_at[n]] = block[n];
   }
   add_run(out, std::move(residual));
   finish(out);
@@ -121,11 +135,12 @@ std::vector<double> held_out_residuals(const Predictor& predictor, const Prepare
   return out;
 }
 
-CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const StartValues& start_for,
-                        int max_folds) {
-  if (runs.size() == 1) return within_run(predictor, *runs.front(), start_for);
+CvResult cross_validate(const std::vector<const PreparedRun*>& runs, const TrainedModelFor& model_for, int max_folds) {
+  if (runs.size() == 1) return within_run(*runs.front(), model_for);
   CvResult out;
-  out.full = Fitter(predictor, runs).fit(start_for(runs));
+  const TrainedModel full = model_for(runs);
+  out.full = Fitter(*full.predictor, runs).fit(full.start);
+  out.full_forms = full.forms;
   const std::size_t folds = std::min<std::size_t>(static_cast<std::size_t>(max_folds), runs.size());
   std::vector<std::vector<double>> residuals(runs.size());
   std::vector<double> own_sse(runs.size()), own_rho(runs.size());
@@ -134,11 +149,14 @@ CvResult cross_validate(const Predictor& predictor, const std::vector<const Prep
     for (std::size_t r = 0; r < runs.size(); ++r) {
       if (r % folds != f) train.push_back(runs[r]);
     }
-    out.folds.push_back(Fitter(predictor, train).fit(start_for(train)));
+    // Chosen on the training runs alone: the held-out runs reach no choice of their fold.
+    const TrainedModel fold = model_for(train);
+    out.folds.push_back(Fitter(*fold.predictor, train).fit(fold.start));
+    out.fold_forms.push_back(fold.forms);
     const FitResult& fit = out.folds.back();
     for (std::size_t r = f; r < runs.size(); r += folds) {
-      residuals[r] = held_out_residuals(predictor, *runs[r], fit.params);
-      const std::vector<double> own = own_eye_residuals(predictor, *runs[r], fit.params);
+      residuals[r] = held_out_residuals(*fold.predictor, *runs[r], fit.params);
+      const std::vector<double> own = own_eye_residuals(*fold.predictor, *runs[r], fit.params);
       own_sse[r] = sum_of_squares(own);
       own_rho[r] = lag1(own);
     }

@@ -5,11 +5,15 @@
 // CV inside the run (5 contiguous time blocks), so they never see the samples they predict.
 // With a single run, the folds are time blocks of that run.
 //
-// Honesty: nothing of a held-out run reaches the fit of its fold. Each fold's start values
-// (including the grids of multimodal terms) come from `start_for(training runs)`, the fold
-// is fitted from there (no warm start from the fit on all runs), and the eyes of held-out
-// runs are the population model's (their own scale and puncture shift are never fitted).
+// Honesty: nothing of a held-out run reaches the fit of its fold. Each fold's model comes
+// from `model_for(training runs)`: its predictor (the form of every effect family chosen on
+// the training runs only, covariates standardised on them) and its start values (including
+// the grids of multimodal terms, scored on the training runs). The fold is fitted from there
+// (no warm start from the fit on all runs), and the eyes of held-out runs are the population
+// model's (their own scale and puncture shift are never fitted).
 #include <functional>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "fitter.hpp"
@@ -28,12 +32,21 @@ struct CvResult {
   std::vector<double> own_eye_run_rho;
   FitResult full;                              // the fit on all runs
   std::vector<FitResult> folds;                // each fold's fit on its training runs
+  std::vector<std::string> full_forms;         // each term's form in the fit on all runs ("" if it has none)
+  std::vector<std::vector<std::string>> fold_forms;  // per fold: each term's form, chosen on its training runs
 };
 
-using StartValues = std::function<ModelParams(const std::vector<const PreparedRun*>& training_runs)>;
+// The model one fit uses (a fold's, or the one on all runs): a predictor whose effect
+// families are in the forms chosen on exactly the runs it is fitted on, and start values
+// picked on those runs. `predictor` may share ownership of the terms it evaluates.
+struct TrainedModel {
+  std::shared_ptr<const Predictor> predictor;
+  ModelParams start;
+  std::vector<std::string> forms;  // each term's form, in term order ("" if it has none)
+};
+using TrainedModelFor = std::function<TrainedModel(const std::vector<const PreparedRun*>& training_runs)>;
 
-CvResult cross_validate(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const StartValues& start_for,
-                        int max_folds = 5);
+CvResult cross_validate(const std::vector<const PreparedRun*>& runs, const TrainedModelFor& model_for, int max_folds = 5);
 
 // Residuals of a held-out run: shared parameters given, per-run coefficients by blocked CV.
 // `eye` null: the population model (an unseen eye).

@@ -81,6 +81,28 @@ EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<cons
   for (const auto& key : covariates_) covariate_stats_.push_back(covariate_stats(key, runs));
 }
 
+std::shared_ptr<EffectCatalogue> EffectCatalogue::with_settings_on(const std::vector<const PreparedRun*>& subset) const {
+  auto out = std::make_shared<EffectCatalogue>(*model_, subset);
+  out->with_ = with_;
+  out->select_forms_ = select_forms_;
+  return out;
+}
+
+std::shared_ptr<const EffectCatalogue> EffectCatalogue::on_runs(const std::vector<const PreparedRun*>& subset) const {
+  std::vector<bool> member(runs_.size(), false);
+  std::size_t next = 0;  // the subset must list our runs in our order to share their choices
+  for (const PreparedRun* run : subset) {
+    const auto at = std::find(runs_.begin() + static_cast<std::ptrdiff_t>(next), runs_.end(), run);
+    if (at == runs_.end()) return with_settings_on(subset);  // not our runs, or reordered: nothing to share
+    next = static_cast<std::size_t>(at - runs_.begin()) + 1;
+    member[next - 1] = true;
+  }
+  const std::lock_guard<std::mutex> lock(cache_->mutex);
+  auto& cached = cache_->on_subsets[member];
+  if (!cached) cached = with_settings_on(subset);  // cheap: the forms are chosen when first asked for
+  return cached;
+}
+
 std::vector<std::string> EffectCatalogue::candidates() const {
   std::vector<std::string> out = builtin_names();
   for (const auto& key : covariates_) out.push_back("covariate:" + key);

@@ -6,6 +6,8 @@
 // Every entry is an effect family (see effects/family_term.hpp): make(NAME) fits each of its
 // forms on the catalogue's runs over the model's own effects (and set_baseline's) and
 // returns the entry in the form with the lowest BIC; the choice is kept for later calls.
+// A cross-validation fold uses on_runs(its training runs): a catalogue of its own whose
+// forms and covariate standardisation are chosen on those runs alone.
 #include <map>
 #include <memory>
 #include <mutex>
@@ -40,6 +42,15 @@ class EffectCatalogue {
   // the model's candidate terms (its own user terms are always in the model).
   std::vector<std::string> candidates() const;
   static const std::vector<std::string>& builtin_names();
+  // The runs forms are chosen on and covariates standardised over.
+  const std::vector<const PreparedRun*>& runs() const { return runs_; }
+  const ForceModel& model() const { return *model_; }
+  // The same catalogue (model, baseline, form selection on or off) on a subset of the runs,
+  // e.g. a fold's training runs: its forms and covariate centres and spreads are chosen on
+  // `subset` only. Cached per subset of this catalogue's own runs, so the baseline and every
+  // candidate of a diagnosis share a fold's choices; runs not among them (a run's time
+  // blocks) get a fresh, uncached catalogue.
+  std::shared_ptr<const EffectCatalogue> on_runs(const std::vector<const PreparedRun*>& subset) const;
 
  private:
   std::unique_ptr<EffectTerm> make_in_form(const std::string& name, int form) const;  // -1: default
@@ -50,7 +61,9 @@ class EffectCatalogue {
     std::once_flag baseline_once;
     std::shared_ptr<const effects::SelectionBaseline> baseline;  // fitted once for all families
     std::map<std::string, std::pair<int, std::string>> chosen;  // name -> form, note
+    std::map<std::vector<bool>, std::shared_ptr<const EffectCatalogue>> on_subsets;  // key: which of runs_ are in it
   };
+  std::shared_ptr<EffectCatalogue> with_settings_on(const std::vector<const PreparedRun*>& subset) const;
   const ForceModel* model_;
   std::vector<const PreparedRun*> runs_;
   std::vector<std::string> with_;

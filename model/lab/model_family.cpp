@@ -8,7 +8,8 @@
 
 namespace rig::model {
 
-ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra) {
+ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra)
+    : catalogue_(catalogue), extra_(extra) {
   for (SavedEffect& saved : saved_effects(model, catalogue)) {
     names_.push_back(saved.term->name());
     saved_params_.push_back(saved.params);
@@ -43,8 +44,24 @@ ModelParams ModelFamily::start(const std::vector<const PreparedRun*>& runs) cons
   return p;
 }
 
+std::vector<std::string> ModelFamily::forms() const {
+  std::vector<std::string> out;
+  for (const auto& term : owned_) out.push_back(term->form());
+  return out;
+}
+
+TrainedModel ModelFamily::trained_on(const std::vector<const PreparedRun*>& runs) const {
+  if (runs == catalogue_.runs()) {
+    // Not owned: this family outlives the cross-validation that asks.
+    return {std::shared_ptr<const Predictor>(std::shared_ptr<const Predictor>(), predictor_.get()), start(runs), forms()};
+  }
+  const std::shared_ptr<const EffectCatalogue> catalogue = catalogue_.on_runs(runs);
+  const auto family = std::make_shared<const ModelFamily>(catalogue->model(), *catalogue, extra_);
+  return {std::shared_ptr<const Predictor>(family, &family->predictor()), family->start(runs), family->forms()};
+}
+
 CvResult ModelFamily::cross_validate(const std::vector<const PreparedRun*>& runs) const {
-  return model::cross_validate(*predictor_, runs, [this](const std::vector<const PreparedRun*>& training) { return start(training); });
+  return model::cross_validate(runs, [this](const std::vector<const PreparedRun*>& training) { return trained_on(training); });
 }
 
 double ModelFamily::eye_variance_N2(const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace rig::model {
 
@@ -38,6 +39,16 @@ double measured_insertion_velocity(const PreparedRun& p) {
 
 }  // namespace
 
+std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n) {
+  if (hi <= lo + 1) return lo;
+  // splitmix64 of (stratum, run length): a fixed pseudo-random place in [lo, hi).
+  std::uint64_t z = (static_cast<std::uint64_t>(k) + 1) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(n);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return lo + static_cast<std::size_t>(z % (hi - lo));
+}
+
 PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   PreparedRun p;
   p.data = &run;
@@ -69,8 +80,12 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   std::size_t first = 0;
   while (first < run.size() && run.x_mm[first] < 0.0) ++first;
   for (std::size_t i = first; i < run.size(); ++i) p.analysed.push_back(i);
-  const std::size_t stride = std::max<std::size_t>(1, p.analysed.size() / max_fit_rows);
-  for (std::size_t k = 0; k < p.analysed.size(); k += stride) p.fit_rows.push_back(p.analysed[k]);
+  // One row per stride, at a jittered place in it (below): an even stride of a 1 kHz run is
+  // often a whole number of mains cycles (16,000 samples / 800 rows = 20 ms = one 50 Hz
+  // cycle), and rows at one phase see the pick-up as a constant.
+  const std::size_t n = p.analysed.size();
+  const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(max_fit_rows, 1));
+  for (std::size_t lo = 0; lo < n; lo += stride) p.fit_rows.push_back(p.analysed[jittered_row(lo / stride, lo, std::min(n, lo + stride), n)]);
   p.iop_known = run.number("iop_mmHg").has_value();
   p.iop_mmHg = run.number("iop_mmHg").value_or(15.0);
   if (!p.iop_known) p.warnings.push_back(run.source + ": no iop_mmHg: the model is evaluated at 15 mmHg and IOP analyses leave this run out");
@@ -94,7 +109,8 @@ void thin_analysed(PreparedRun& run, std::size_t max_rows) {
   if (max_rows == 0 || run.analysed.size() <= max_rows) return;
   std::vector<std::size_t> kept;
   kept.reserve(max_rows);
-  for (std::size_t k = 0; k < max_rows; ++k) kept.push_back(run.analysed[k * run.analysed.size() / max_rows]);
+  const std::size_t n = run.analysed.size();
+  for (std::size_t k = 0; k < max_rows; ++k) kept.push_back(run.analysed[jittered_row(k, k * n / max_rows, (k + 1) * n / max_rows, n)]);
   run.analysed = std::move(kept);
 }
 

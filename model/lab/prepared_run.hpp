@@ -19,7 +19,7 @@ struct PreparedRun {
   std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<std::size_t> analysed;  // from first contact to the end
-  std::vector<std::size_t> fit_rows;  // evenly thinned `analysed`, for the nonlinear fits
+  std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
   double iop_mmHg = 15.0;
   double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
   bool iop_known = false;
@@ -35,6 +35,13 @@ struct PreparedRun {
 
 PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
 
+// The row kept of stratum k = [lo, hi) of a run's n analysed samples when they are thinned
+// (fit rows, scored samples): a fixed pseudo-random place in the stratum, a hash of k and n
+// alone, so that rows are as evenly spread as a stride, never at one phase of mains pick-up
+// (an even stride at 1 kHz is often whole 50/60 Hz cycles), reproducible, and never
+// dependent on another run (a fold's rows do not change with its held-out runs).
+std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n);
+
 // Fit rows and scored samples for a set of `runs` runs holding `samples` analysed samples
 // in all: up to 800 fit rows per run while the set is small, fewer (not under 200) beyond
 // 30 runs, so that a fit sees at most ~24,000 rows; every analysed sample is scored up to
@@ -44,7 +51,7 @@ struct RowBudget {
   std::size_t scored_per_run = 0;  // 0: every analysed sample
 };
 RowBudget row_budget(std::size_t runs, std::size_t samples);
-// Keep at most `max_rows` evenly spaced analysed samples (0: all).
+// Keep at most `max_rows` analysed samples, one jittered row per stratum (0: all).
 void thin_analysed(PreparedRun& run, std::size_t max_rows);
 
 // Run order within a session as the covariate `run_order` (1, 2, ... by `started_at`; a

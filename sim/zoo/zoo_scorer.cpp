@@ -111,15 +111,24 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
     DrawScore s = score_draw(draw, o.threads);
     s.generate_s = generate_s;
     if (o.verbose) {
-      std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s (%.1f s + %.1f s)\n",
+      const bool named = s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
+      std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
                    static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
                    s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then " + s.second_verdict + " ").c_str(),
-                   s.correct ? "ok" : "MISS", s.generate_s, s.diagnose_s);
+                   s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
+                   s.generate_s, s.diagnose_s);
       std::fprintf(stderr, "     baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
                    s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
                    1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
     }
     z.draws.push_back(std::move(s));
+    if (o.verbose && (k + 1) % 10 == 0 && k + 1 < o.draws) {  // a long run cut short still has its figures
+      ZooScore so_far;
+      so_far.draws = z.draws;
+      summarise(so_far);
+      std::fprintf(stderr, "-- the table so far --\n");
+      print_score(so_far, stderr);
+    }
   }
   summarise(z);
   return z;

@@ -54,7 +54,7 @@ struct ScoreOptions {
   std::uint64_t first_seed = 1000;
   int draws = 200;
   int threads = 2;       // diagnose's worker threads
-  bool verbose = false;  // one line per draw on stderr
+  bool verbose = false;  // two lines per draw on stderr, and the table so far every 10 draws
 };
 
 DrawScore score_draw(const ZooDraw& draw, int threads);

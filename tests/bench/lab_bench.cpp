@@ -89,7 +89,7 @@ int main(int argc, char** argv) {
   std::string effect = "shaft_friction";
   app.add_option("--draws", zoo.draws, "zoo draws to score (a quick look: 20)")->check(CLI::Range(1, 100000));
   app.add_option("--seed", zoo.first_seed, "first draw's seed (draw k has seed + k)");
-  app.add_flag("--verbose", zoo.verbose, "one line per draw on stderr");
+  app.add_flag("--verbose", zoo.verbose, "two lines per draw on stderr, and the table so far every 10 draws");
   app.add_flag("--no-zoo", no_zoo, "skip the zoo");
   app.add_flag("--clean-only", clean_only, "effect-free draws only (to calibrate the false-alarm bars on tuning seeds)");
   app.add_option("--threads", zoo.threads, "diagnose's worker threads")->check(CLI::Range(1, 64));

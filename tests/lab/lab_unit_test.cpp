@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <random>
@@ -14,6 +15,7 @@
 #include "lab_scenarios.hpp"
 #include "model_fit.hpp"
 #include "phases.hpp"
+#include "prepared_run.hpp"
 #include "run_csv.hpp"
 #include "test_paths.hpp"
 
@@ -66,6 +68,52 @@ TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
   EXPECT_TRUE(s.punctured);
   EXPECT_NEAR(s.x_pi_mm, 3.55, 0.15);
   EXPECT_NEAR(s.noise_sigma_N, 0.0062, 0.0015);
+}
+
+// 16,000 samples at 1 kHz (a 16 s run), in and out at 2 mm/s, the force nothing but mains
+// pick-up of 4 mN at `hz`.
+RunData mains_only_run(double hz) {
+  RunData run;
+  run.source = "mains";
+  constexpr double kPi = 3.14159265358979323846;
+  for (std::size_t i = 0; i < 16000; ++i) {
+    const double t = static_cast<double>(i) * 1e-3;
+    run.t_s.push_back(t);
+    run.x_mm.push_back(t < 8.0 ? 2.0 * t : 2.0 * (16.0 - t));
+    run.force_N.push_back(0.004 * std::sin(2.0 * kPi * hz * t + 0.3));
+  }
+  return run;
+}
+
+// The spread of the force at `rows` (4 mN / sqrt 2 if the rows see every phase of a sine).
+double force_spread_at(const RunData& run, const std::vector<std::size_t>& rows) {
+  double mean = 0.0, sq = 0.0;
+  for (const std::size_t i : rows) mean += run.force_N[i];
+  mean /= static_cast<double>(rows.size());
+  for (const std::size_t i : rows) sq += (run.force_N[i] - mean) * (run.force_N[i] - mean);
+  return std::sqrt(sq / static_cast<double>(rows.size()));
+}
+
+TEST(FitRows, SeeMainsPickUpAtEveryPhaseOnA16000SampleRun) {
+  // 800 rows of 16,000 samples evenly spaced are 20 ms apart: one 50 Hz cycle (and 2, 3
+  // cycles of the harmonics), so every row sat at the same phase and the pick-up was a
+  // constant to the fits. The rows, and the scored samples when a large set is thinned,
+  // must see it.
+  for (const double hz : {50.0, 60.0, 100.0, 150.0}) {
+    const RunData run = mains_only_run(hz);
+    PreparedRun p = prepare_run(run, 800);
+    ASSERT_EQ(p.analysed.size(), 16000U);
+    ASSERT_EQ(p.fit_rows.size(), 800U);
+    EXPECT_NEAR(force_spread_at(run, p.fit_rows), 0.004 / std::sqrt(2.0), 0.0004) << hz << " Hz, fit rows";
+    for (std::size_t k = 0; k < p.fit_rows.size(); ++k) {  // still one row in each 20-sample stride
+      EXPECT_EQ(p.fit_rows[k] / 20, k);
+    }
+    thin_analysed(p, 800);
+    ASSERT_EQ(p.analysed.size(), 800U);
+    EXPECT_NEAR(force_spread_at(run, p.analysed), 0.004 / std::sqrt(2.0), 0.0004) << hz << " Hz, scored samples";
+  }
+  // Reproducible, and a run's rows are its own: the same run gives the same rows.
+  EXPECT_EQ(prepare_run(mains_only_run(50.0), 800).fit_rows, prepare_run(mains_only_run(60.0), 800).fit_rows);
 }
 
 TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
