@@ -14,6 +14,7 @@
 #include "archive.hpp"
 #include "child_process.hpp"
 #include "cut_summary.hpp"
+#include "timing_fault.hpp"
 
 namespace rig::cli {
 namespace {
@@ -47,10 +48,6 @@ bool port_free(int port) {
 struct TimingFault : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
-
-bool is_timing_fault(const std::string& fault) {
-  return fault.rfind("DAQ link lost", 0) == 0 || fault.rfind("DAQ watchdog tripped", 0) == 0 || fault.rfind("loop overrun storm", 0) == 0;
-}
 
 nlohmann::json wait_state(const ApiClient& api, const std::function<bool(const nlohmann::json&)>& done, int timeout_s, const std::string& what) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(timeout_s);

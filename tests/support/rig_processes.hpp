@@ -13,6 +13,7 @@
 #include "api_client.hpp"
 #include "child_process.hpp"
 #include "test_paths.hpp"
+#include "timing_fault.hpp"
 
 namespace rig::testing {
 
@@ -87,7 +88,7 @@ class RigProcesses {
       if (home_and_tare(why)) return true;
       const nlohmann::json s = status();
       const std::string fault = s.value("fault", "");
-      if (s["state"] != "Fault" || !is_timing_fault(fault)) return false;
+      if (s["state"] != "Fault" || !cli::is_timing_fault(fault)) return false;
       std::printf("ACCIDENTAL | a timing fault while preparing, reset and retried: %s\n", fault.c_str());
       api().post("/api/reset");
       wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
@@ -112,15 +113,12 @@ class RigProcesses {
           60);
       why = last.dump();
       if (ended && last["state"] == "Done") return run_id;
-      if (!ended || !is_timing_fault(last.value("fault", ""))) return 0;
+      if (!ended || !cli::is_timing_fault(last.value("fault", ""))) return 0;
       std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
       api().post("/api/reset");
       wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
     }
     return 0;
-  }
-  static bool is_timing_fault(const std::string& fault) {
-    return fault.rfind("DAQ link lost", 0) == 0 || fault.rfind("DAQ watchdog tripped", 0) == 0 || fault.rfind("loop overrun storm", 0) == 0;
   }
   bool home_and_tare(std::string& why) const {
     api().post("/api/home");
