@@ -119,7 +119,7 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_in_form(const std::string& nam
   if (name == "rig_compliance") return std::make_unique<RigCompliance>(in(RigCompliance::kPolynomial));
   if (name == "sensor_drift") return std::make_unique<SensorDrift>(in(SensorDrift::kPolynomial));
   if (name == "spatial_ripple") return std::make_unique<SpatialRipple>(in(SpatialRipple::kThreeHarmonics));
-  if (name == "mains_interference") return std::make_unique<MainsInterference>(in(MainsInterference::kThreeHarmonics));
+  if (name == "mains_interference") return std::make_unique<MainsInterference>(in(MainsInterference::kHarmonics));
   if (name == "stick_slip") return std::make_unique<StickSlip>(in(StickSlip::kThreeHarmonics));
   if (name == "stress_relaxation") return std::make_unique<StressRelaxation>(in(StressRelaxation::kStretched));
   if (name.rfind("covariate:", 0) == 0) {

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "grid_line.hpp"
+
 namespace rig::model {
 
 std::optional<double> PreparedRun::covariate(const std::string& key, std::size_t i) const {
@@ -35,6 +37,47 @@ double measured_insertion_velocity(const PreparedRun& p) {
   if (v.empty()) return 1.0;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
   return v[v.size() / 2];
+}
+
+// Stops on the way in (a protocol's pauses before the deepest point, in tissue): the tissue
+// relaxes in them as in the hold at depth, so hold_s counts the time since each stop began.
+// A stop is where the position, averaged over +-50 ms (a potentiometer's noise would make a
+// +-10 ms velocity jitter by tenths of mm/s), moves slower than half the insertion velocity
+// for at least 0.2 s.
+void derive_pauses(PreparedRun& p) {
+  constexpr double kHalfWindow_s = 0.05, kMinStop_s = 0.2;
+  const RunData& r = *p.data;
+  const std::size_t end = std::min(p.seg.hold_end > p.seg.hold_begin ? p.seg.hold_begin : p.seg.insertion_end, r.size());
+  const double slow = 0.5 * std::max(std::abs(p.velocity_cmd_mm_s), 0.05);  // [mm/s]
+  p.reload_mm.assign(r.size(), -1.0);
+  p.stop_length_s.assign(r.size(), 0.0);
+  std::size_t lo = 0, hi = 0, stop_begin = end, last_stop_end = end;
+  double last_stop_s = 0.0;
+  auto close_stop = [&](std::size_t stop_end) {
+    if (stop_begin < stop_end && r.t_s[stop_end - 1] - r.t_s[stop_begin] >= kMinStop_s) {
+      for (std::size_t k = stop_begin; k < stop_end; ++k) p.hold_s[k] = r.t_s[k] - r.t_s[stop_begin];
+      last_stop_end = stop_end;
+      last_stop_s = r.t_s[stop_end - 1] - r.t_s[stop_begin];
+    }
+    stop_begin = end;
+  };
+  for (std::size_t i = 0; i < end; ++i) {
+    while (lo < i && r.t_s[lo] < r.t_s[i] - kHalfWindow_s) ++lo;
+    while (hi + 1 < r.size() && r.t_s[hi + 1] <= r.t_s[i] + kHalfWindow_s) ++hi;
+    const std::size_t half = (hi - lo) / 2;  // velocity of the window's two halves' means
+    double first = 0.0, second = 0.0;
+    for (std::size_t k = lo; k < lo + half; ++k) first += r.x_mm[k];
+    for (std::size_t k = hi + 1 - half; k <= hi; ++k) second += r.x_mm[k];
+    const double dt = r.t_s[hi + 1 - half + half / 2] - r.t_s[lo + half / 2];
+    const bool stopped = half > 0 && dt > 1e-9 && r.x_mm[i] > 0.0 && std::abs(second - first) / static_cast<double>(half) / dt < slow;
+    if (stopped && stop_begin == end) stop_begin = i;
+    if (!stopped && stop_begin != end) close_stop(i);
+    if (stop_begin == end && last_stop_end < i) {  // moving on after a stop: the tissue reloads
+      p.reload_mm[i] = std::max(0.0, p.front_mm[i] - p.front_mm[last_stop_end]);
+      p.stop_length_s[i] = last_stop_s;
+    }
+  }
+  close_stop(end);
 }
 
 }  // namespace
@@ -86,12 +129,17 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   const std::size_t n = p.analysed.size();
   const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(max_fit_rows, 1));
   for (std::size_t lo = 0; lo < n; lo += stride) p.fit_rows.push_back(p.analysed[jittered_row(lo / stride, lo, std::min(n, lo + stride), n)]);
+  for (int k = 0; k < 2; ++k) {
+    p.grid_hz[k] = grid_line_hz(run.t_s, run.force_N, first, run.size(), k == 0 ? 50.0 : 60.0);
+    p.grid_cycles[k] = grid_cycles(run.t_s, run.force_N, first, p.grid_hz[k]);
+  }
   p.iop_known = run.number("iop_mmHg").has_value();
   p.iop_mmHg = run.number("iop_mmHg").value_or(15.0);
   if (!p.iop_known) p.warnings.push_back(run.source + ": no iop_mmHg: the model is evaluated at 15 mmHg and IOP analyses leave this run out");
   p.velocity_known = run.number("velocity_mm_s").has_value();
   p.velocity_cmd_mm_s = run.number("velocity_mm_s").value_or(measured_insertion_velocity(p));
   if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
+  derive_pauses(p);
   for (const auto& note : p.seg.notes) p.warnings.push_back(run.source + ": " + note);
   return p;
 }

@@ -15,7 +15,9 @@ struct PreparedRun {
   const RunData* data = nullptr;
   Segmentation seg;
   std::vector<double> velocity_mm_s;  // dx/dt over +-10 ms (irregular sampling safe)
-  std::vector<double> hold_s;         // time since the hold began, 0 outside it
+  std::vector<double> hold_s;         // time since the hold (or a stop on the way in) began, 0 outside it
+  std::vector<double> reload_mm;      // after a stop on the way in: advance since it ended [mm], else -1
+  std::vector<double> stop_length_s;  // ... and that stop's length [s]
   std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<std::size_t> analysed;  // from first contact to the end
@@ -24,6 +26,8 @@ struct PreparedRun {
   double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
   bool iop_known = false;
   bool velocity_known = false;
+  double grid_hz[2] = {50.0, 60.0};   // the run's own mains lines near 50 and 60 Hz (grid_line.hpp)
+  std::vector<double> grid_cycles[2]; // the grid's tracked phase at each sample [cycles] (grid_line.hpp)
   std::map<std::string, double> derived;  // covariates derived from the whole run set (run_order)
   std::vector<std::string> warnings;
 

@@ -24,7 +24,9 @@ struct ZooDraw {
   std::string family;                 // catalogue family, "clean", "out_of_catalogue" or "A+B"
   std::string form;                   // what was drawn, in words (for the report)
   std::vector<std::string> expected;  // "none" | catalogue name | covariate:KEY | unexplained; two for mixtures
-  double magnitude = 0.0;             // RMS of the effect over the in-tissue samples / force noise sigma
+  double magnitude = 0.0;             // RMS of the effect over the in-tissue samples / floor_N
+  double magnitude_noise = 0.0;       // the same / the force channel's white noise sigma (1.5 mN)
+  double floor_N = 0.0;               // the simulator's true floor: sqrt(noise^2 + eye variation^2) [N]
   std::vector<model::RunData> runs;
 };
 

@@ -26,6 +26,7 @@ namespace {
 
 constexpr double kNoise_N = 0.0015;   // the simulated load cell's white noise (SensorParams)
 constexpr double kMaxSize = 25.0;      // never scale a form beyond this (its law would be absurd)
+constexpr std::size_t kPilotRuns = 3;  // runs simulated to measure a magnitude or the floor
 const char* const kCovariateKeys[] = {"post_mortem_h", "temperature_C", "blade_uses"};
 
 
@@ -203,8 +204,9 @@ Recipe ZooGenerator::recipe(std::uint64_t seed) const {
 }
 
 std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,
-                                                   std::size_t count) const {
+                                                   std::size_t count, double eye_variability) const {
   sim::GeneratorOptions g;
+  g.physics.tissue.eye_variability = eye_variability;
   for (sim::HiddenEffect e : r.effects) {
     e.size = size;
     g.effects.push_back(e);
@@ -224,7 +226,15 @@ std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r, const std::v
 
 double ZooGenerator::pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size) const {
   Recipe clean;
-  return effect_rms_ratio(simulate(r, specs, size, 3), simulate(clean, specs, size, 3), kNoise_N);
+  return effect_rms_ratio(simulate(r, specs, size, kPilotRuns), simulate(clean, specs, size, kPilotRuns), kNoise_N);
+}
+
+double ZooGenerator::true_floor_N(const std::vector<sim::RunSpec>& specs) const {
+  // The same eyes' noise and tearing with identical eyes: what differs is the eye variation.
+  Recipe clean;
+  const double eye_N = kNoise_N * effect_rms_ratio(simulate(clean, specs, 1.0, kPilotRuns),
+                                                   simulate(clean, specs, 1.0, kPilotRuns, 0.0), kNoise_N);
+  return std::sqrt(kNoise_N * kNoise_N + eye_N * eye_N);
 }
 
 ZooDraw ZooGenerator::draw(std::uint64_t seed) const {
@@ -236,12 +246,15 @@ ZooDraw ZooGenerator::draw(std::uint64_t seed) const {
   d.family = r.family;
   d.form = r.form;
   d.expected = r.expected;
+  d.floor_N = true_floor_N(specs);
+  const double floor_in_noise = d.floor_N / kNoise_N;
   double size = 1.0;
   if (r.kind != DrawKind::kClean) {
     // The effects are close to linear in their size: one pilot at size 1 sets the scale.
-    const double at_one = pilot_magnitude(r, specs, 1.0);
-    size = at_one > 1e-9 ? std::min(kMaxSize, r.target / at_one) : 1.0;
-    d.magnitude = at_one * size;
+    const double at_one = pilot_magnitude(r, specs, 1.0);  // x noise
+    size = at_one > 1e-9 ? std::min(kMaxSize, r.target * floor_in_noise / at_one) : 1.0;
+    d.magnitude_noise = at_one * size;
+    d.magnitude = d.magnitude_noise / floor_in_noise;
   }
   d.runs = simulate(r, specs, size, specs.size());
   return d;

@@ -22,6 +22,24 @@ double candidate_rmse(const model::Diagnosis& d, const std::string& name) {
   return d.baseline_cv_rmse_N;
 }
 
+bool within(double before, double after, double floor) { return after <= floor + kCloseShare * std::max(0.0, before - floor); }
+
+// After <= floor + 25 % of the excess, on the channel the verdict was found on (the lab's
+// two channels, docs/model-lab.md): an effect that scales whole runs is judged against the
+// population floor (noise + eye variation), one with a shape inside the run against the
+// measurement noise within eyes; found on both, on either.
+bool close_after(const model::Diagnosis& d, const std::string& name) {
+  for (const auto& c : d.candidates) {
+    if (c.effect != name || !c.applicable) continue;
+    const bool population = within(d.baseline_cv_rmse_N, c.cv_rmse_N, d.noise_floor_N);
+    const bool own = within(d.baseline_own_eye_cv_rmse_N, c.own_eye_cv_rmse_N, d.floor.measurement_N);
+    if (c.channel == "population") return population;
+    if (c.channel == "own eye") return own;
+    return population || own;
+  }
+  return false;
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   std::sort(values.begin(), values.end());
@@ -38,6 +56,8 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
   s.form = draw.form;
   s.expected = draw.expected;
   s.magnitude = draw.magnitude;
+  s.magnitude_noise = draw.magnitude_noise;
+  s.true_floor_N = draw.floor_N;
   const auto start = std::chrono::steady_clock::now();
   const model::ForceModel paper = model::ForceModel::paper_interpreted();
   model::DiagnoseOptions options;
@@ -56,7 +76,7 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
     s.best_gain_pct = std::max(s.best_gain_pct, c.gain_pct);
     s.best_own_eye_gain_pct = std::max(s.best_own_eye_gain_pct, c.own_eye_gain_pct);
   }
-  s.fit_close = s.after_N <= s.floor_N + kCloseShare * std::max(0.0, s.baseline_N - s.floor_N);
+  s.fit_close = close_after(d, d.verdict);
   if (draw.kind != DrawKind::kMixture) {
     s.correct = s.verdict == draw.expected.front();
     return s;
@@ -70,7 +90,7 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
   const std::string other = first == draw.expected.begin() ? draw.expected[1] : draw.expected[0];
   s.correct = again.verdict == other;
   s.after_N = candidate_rmse(again, again.verdict);
-  s.fit_close = s.after_N <= s.floor_N + kCloseShare * std::max(0.0, s.baseline_N - s.floor_N);
+  s.fit_close = close_after(again, again.verdict);
   return s;
 }
 
@@ -89,6 +109,7 @@ void summarise(ZooScore& z) {
       case DrawKind::kCatalogueForm:
       case DrawKind::kZooLaw:
         count(strong ? z.catalogue_correct : z.catalogue_correct_below_3x, s.correct);
+        if (s.magnitude_noise >= kHeadlineMagnitude) count(z.catalogue_correct_3x_noise, s.correct);
         if (strong) count(z.correct_by_family[s.family.rfind("covariate:", 0) == 0 ? "covariate" : s.family], s.correct);
         break;
       case DrawKind::kOutOfCatalogue:
@@ -117,8 +138,8 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
                    s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then " + s.second_verdict + " ").c_str(),
                    s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
                    s.generate_s, s.diagnose_s);
-      std::fprintf(stderr, "     baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
-                   s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
+      std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
+                   s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
                    1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
     }
     z.draws.push_back(std::move(s));
@@ -138,6 +159,7 @@ void print_score(const ZooScore& z, std::FILE* out) {
   auto line = [out](const char* what, const Rate& r, const char* target) {
     std::fprintf(out, "  %-62s %5.1f %%  (%d of %d)   target %s\n", what, r.percent(), r.hits, r.total, target);
   };
+  std::fprintf(out, "blind effect zoo: magnitudes in x the true floor (white noise + eye variation)\n");
   std::fprintf(out, "blind effect zoo: %zu draws, median %.1f s to simulate and %.1f s to diagnose a draw\n", z.draws.size(),
                z.median_generate_s, z.median_diagnose_s);
   line("correct verdict, catalogue families in other forms, >= 3x floor", z.catalogue_correct, ">= 90 %");
@@ -145,6 +167,7 @@ void print_score(const ZooScore& z, std::FILE* out) {
     std::fprintf(out, "    %-60s %5.1f %%  (%d of %d)\n", family.c_str(), rate.percent(), rate.hits, rate.total);
   }
   line("correct verdict, the same under 3x floor", z.catalogue_correct_below_3x, "(none)");
+  line("correct verdict, the same at >= 3x the white noise alone", z.catalogue_correct_3x_noise, "(none)");
   line("false alarms on effect-free sets", z.false_alarms, "<= 5 %");
   line("`unexplained` on out-of-catalogue effects, >= 3x floor", z.unexplained, ">= 80 %");
   line("mixtures: both named in two rounds (diagnose --with)", z.mixtures_found, "(none)");

@@ -19,7 +19,9 @@ struct DrawScore {
   DrawKind kind = DrawKind::kClean;
   std::string family, form;
   std::vector<std::string> expected;
-  double magnitude = 0.0;
+  double magnitude = 0.0;         // x the simulator's true floor (noise + eye variation)
+  double magnitude_noise = 0.0;   // x the white noise alone (the stricter scale)
+  double true_floor_N = 0.0;      // the simulator's floor [N]
   std::string verdict;            // first round
   std::string second_verdict;     // mixtures: with the first round's verdict in the base
   bool correct = false;           // the verdict (both, for mixtures) is what was expected
@@ -43,6 +45,7 @@ struct ZooScore {
   Rate catalogue_correct;                      // catalogue families (both kinds) at >= 3x the floor
   std::map<std::string, Rate> correct_by_family;
   Rate catalogue_correct_below_3x;             // the same under 3x (reported, no target)
+  Rate catalogue_correct_3x_noise;             // at >= 3x the white noise alone (the stricter scale)
   Rate false_alarms;                           // clean sets with a verdict other than none
   Rate unexplained;                            // out-of-catalogue sets answered `unexplained` (>= 3x)
   Rate mixtures_found;                         // both effects named in two rounds

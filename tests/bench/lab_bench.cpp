@@ -8,11 +8,13 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <ctime>
 #include <cstdio>
 
 #include "diagnosis.hpp"
 #include "run_generator.hpp"
+#include "run_csv.hpp"
 #include "zoo_scorer.hpp"
 
 namespace {
@@ -77,6 +79,19 @@ rig::zoo::ZooOptions zoo_options(bool clean_only) {
 
 }  // namespace
 
+// The draws' runs as run-CSV, with what each hides, so that a draw can be diagnosed by hand.
+int save_draws(const rig::zoo::ZooGenerator& generator, const rig::zoo::ScoreOptions& o, const std::string& dir) {
+  for (int k = 0; k < o.draws; ++k) {
+    const rig::zoo::ZooDraw draw = generator.draw(o.first_seed + static_cast<std::uint64_t>(k));
+    const std::string folder = dir + "/" + std::to_string(draw.seed);
+    std::filesystem::create_directories(folder);
+    for (std::size_t r = 0; r < draw.runs.size(); ++r) rig::model::write_run_csv(draw.runs[r], folder + "/run-" + std::to_string(r) + ".csv");
+    std::printf("%s: %s, %s, %.2fx the floor (%.1f mN), expected %s\n", folder.c_str(), draw.family.c_str(), draw.form.c_str(),
+                draw.magnitude, 1e3 * draw.floor_N, draw.expected.front().c_str());
+  }
+  return 0;
+}
+
 int main(int argc, char** argv) {
   std::setvbuf(stdout, nullptr, _IOLBF, 0);  // figures appear as they come, also into a file
   CLI::App app{"bench-lab: the model lab's blind-zoo rates and diagnose time"};
@@ -87,6 +102,7 @@ int main(int argc, char** argv) {
   bool no_timing = false;
   int runs = 100;
   std::string effect = "shaft_friction";
+  std::string save_dir;
   app.add_option("--draws", zoo.draws, "zoo draws to score (a quick look: 20)")->check(CLI::Range(1, 100000));
   app.add_option("--seed", zoo.first_seed, "first draw's seed (draw k has seed + k)");
   app.add_flag("--verbose", zoo.verbose, "two lines per draw on stderr, and the table so far every 10 draws");
@@ -97,7 +113,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-timing", no_timing, "skip the diagnose time");
   app.add_option("--runs", runs, "runs for the diagnose time")->check(CLI::Range(1, 10000));
   app.add_option("--effect", effect, "hidden effect of the diagnose-time runs (empty: clean)");
+  app.add_option("--save-runs", save_dir, "write each draw's runs as run-CSV files into DIR/SEED/ (for `rig model diagnose`), no scoring");
   CLI11_PARSE(app, argc, argv);
+  if (!save_dir.empty()) return save_draws(rig::zoo::ZooGenerator{zoo_options(clean_only)}, zoo, save_dir);
   if (!no_zoo) {
     const auto start = std::chrono::steady_clock::now();
     const rig::zoo::ZooScore score = rig::zoo::score_zoo(rig::zoo::ZooGenerator{zoo_options(clean_only)}, zoo);

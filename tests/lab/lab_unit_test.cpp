@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "comparison.hpp"
 #include "diagnosis.hpp"
+#include "grid_line.hpp"
 #include "lab_scenarios.hpp"
 #include "model_fit.hpp"
 #include "phases.hpp"
@@ -114,6 +115,56 @@ TEST(FitRows, SeeMainsPickUpAtEveryPhaseOnA16000SampleRun) {
   }
   // Reproducible, and a run's rows are its own: the same run gives the same rows.
   EXPECT_EQ(prepare_run(mains_only_run(50.0), 800).fit_rows, prepare_run(mains_only_run(60.0), 800).fit_rows);
+}
+
+TEST(GridLine, IsFoundToAHundredthOfAHertzUnderNoiseAndACuttingForce) {
+  // A grid off its nominal by hundredths of a hertz slips a shared frequency by a cycle or
+  // more over a run: each run's own line must be found, whatever the force curve does.
+  std::mt19937 rng(11);
+  std::normal_distribution<double> noise(0.0, 0.0015);
+  for (const double hz : {49.962, 50.031, 59.975, 60.048}) {
+    std::vector<double> t, f;
+    for (std::size_t i = 0; i < 20000; ++i) {
+      const double ts = static_cast<double>(i) * 1e-3;
+      t.push_back(ts);
+      f.push_back(0.05 * ts + 0.02 * std::sin(0.7 * ts) + 0.002 * std::sin(2.0 * 3.14159265358979 * hz * ts + 1.0) + noise(rng));
+    }
+    const double nominal = hz < 55.0 ? 50.0 : 60.0;
+    EXPECT_NEAR(grid_line_hz(t, f, 0, t.size(), nominal), hz, 0.005) << hz;
+  }
+  // Too short or too slowly sampled to tell: the nominal.
+  const std::vector<double> t = {0.0, 0.01, 0.02, 0.03}, f = {0.0, 1.0, 0.0, 1.0};
+  EXPECT_EQ(grid_line_hz(t, f, 0, t.size(), 50.0), 50.0);
+}
+
+TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
+  // The standard protocol stops 1.5 s at 2 mm and 2 s at 5.5 mm, then holds 1 s at depth:
+  // tissue relaxes in each stop, so each carries its own time in hold.
+  sim::GeneratorOptions g;
+  sim::RunSpec spec;
+  sim::apply_standard_protocol(spec);
+  spec.eye_id = "pauses";
+  const RunData run = sim::generate_run(g, spec);
+  const PreparedRun p = prepare_run(run);
+  std::vector<std::pair<double, double>> stops;  // depth [mm], longest time in hold [s]
+  for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
+    if (p.hold_s[i] <= 0.0) continue;
+    if (stops.empty() || std::abs(run.x_mm[i] - stops.back().first) > 0.3) stops.emplace_back(run.x_mm[i], 0.0);
+    stops.back().second = std::max(stops.back().second, p.hold_s[i]);
+  }
+  ASSERT_EQ(stops.size(), 2U);
+  EXPECT_NEAR(stops[0].first, 2.0, 0.1);
+  EXPECT_NEAR(stops[0].second, 1.5, 0.15);
+  EXPECT_NEAR(stops[1].first, 5.5, 0.1);
+  EXPECT_NEAR(stops[1].second, 2.0, 0.15);
+  ASSERT_GT(p.seg.hold_end, p.seg.hold_begin);
+  EXPECT_NEAR(p.hold_s[p.seg.hold_end - 1], 1.0, 0.1);
+  // Moving, no time in hold.
+  for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
+    if (std::abs(p.velocity_mm_s[i] - spec.velocity_mm_s) < 0.2 * spec.velocity_mm_s && run.x_mm[i] > 0.5) {
+      EXPECT_EQ(p.hold_s[i], 0.0) << "at " << run.x_mm[i] << " mm";
+    }
+  }
 }
 
 TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {

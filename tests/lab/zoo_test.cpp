@@ -221,9 +221,13 @@ TEST(BlindZoo, DrawsAreLabelledCalibratedAndScored) {
       std::vector<model::RunData> clean;
       for (const auto& spec : generator.run_specs(draw.seed)) clean.push_back(sim::generate_run({}, spec));
       const double measured = effect_rms_ratio(draw.runs, clean, 0.0015);
-      std::printf("draw %llu (%s): labelled %.2fx, measured %.2fx the noise\n", static_cast<unsigned long long>(draw.seed),
-                  draw.form.c_str(), draw.magnitude, measured);
-      EXPECT_NEAR(measured / draw.magnitude, 1.0, 0.5);
+      std::printf("draw %llu (%s): labelled %.2fx the noise (%.2fx its floor of %.1f mN), measured %.2fx the noise\n",
+                  static_cast<unsigned long long>(draw.seed), draw.form.c_str(), draw.magnitude_noise, draw.magnitude,
+                  1e3 * draw.floor_N, measured);
+      EXPECT_NEAR(measured / draw.magnitude_noise, 1.0, 0.5);
+      EXPECT_NEAR(draw.magnitude * draw.floor_N, draw.magnitude_noise * 0.0015, 1e-9);
+      // The floor is the noise and the eyes' spread: well above the noise alone, eyes varying.
+      EXPECT_GT(draw.floor_N, 2.0 * 0.0015);
       calibration_checked = true;
     }
     DrawScore s = score_draw(draw, 2);

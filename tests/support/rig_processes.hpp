@@ -120,6 +120,32 @@ class RigProcesses {
     }
     return 0;
   }
+  // A cut started and followed until `reached` holds (e.g. mid-cut, for a kill): a timing
+  // fault of the simulated rig before that point is printed, reset and the cut started again,
+  // three cuts at most. Returns the run's id, 0 with `why`.
+  std::int64_t cut_until(const std::string& run_body, const std::function<bool(const nlohmann::json&)>& reached,
+                         std::string& why) const {
+    for (int attempt = 0; attempt < 3; ++attempt) {
+      if (!prepare(why)) return 0;
+      const auto reply = api().post("/api/run", run_body);
+      if (reply.status != 200) return why = "run refused: " + reply.body, 0;
+      const std::int64_t run_id = nlohmann::json::parse(reply.body)["run_id"];
+      nlohmann::json last;
+      const bool ended = wait(
+          [&](const nlohmann::json& s) {
+            last = s;
+            return reached(s) || s["state"] == "Fault" || s["state"] == "Done";
+          },
+          60);
+      why = last.dump();
+      if (ended && reached(last)) return run_id;
+      if (!ended || last["state"] != "Fault" || !cli::is_timing_fault(last.value("fault", ""))) return 0;
+      std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
+      api().post("/api/reset");
+      wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
+    }
+    return 0;
+  }
   bool home_and_tare(std::string& why) const {
     api().post("/api/home");
     nlohmann::json last;

@@ -14,6 +14,21 @@ const std::vector<std::string>& StressRelaxation::form_names() {
 }
 
 std::vector<ParamSpec> StressRelaxation::shared_params() const {
+  std::vector<ParamSpec> out = decay_params();
+  out.push_back({"reload", "mm", 0.2, 0.01, 3.0});
+  return out;
+}
+
+int StressRelaxation::reload_index() const {
+  switch (form_) {
+    case kOneExponential: return 2;
+    case kProny: return 4;
+    case kPowerLaw: return 2;
+    default: return 3;
+  }
+}
+
+std::vector<ParamSpec> StressRelaxation::decay_params() const {
   switch (form_) {
     case kOneExponential: return {{"r", "1", 0.0, -1.0, 1.0}, {"tau", "s", 1.0, 0.02, 60.0}};
     case kProny:
@@ -45,7 +60,14 @@ std::vector<std::vector<double>> StressRelaxation::starts() const {
       for (const double n : {0.05, 0.2, 0.5}) out.push_back({n, t0});
     }
   }
-  return out;
+  std::vector<std::vector<double>> with_reload;  // each with a short and a long reload [mm]
+  for (const double reload : {0.1, 0.5}) {
+    for (auto start : out) {
+      start.push_back(reload);
+      with_reload.push_back(std::move(start));
+    }
+  }
+  return with_reload;
 }
 
 bool StressRelaxation::applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const {
@@ -90,7 +112,15 @@ bool model_silent_in_hold(const PreparedRun& run, double model_force_N) {
 }  // namespace
 
 double StressRelaxation::add(const SampleView& s, const double* p, double force_N) const {
-  if (s.hold_s <= 0.0) return 0.0;  // in the hold, and after it while the blade withdraws
+  if (s.hold_s <= 0.0) {
+    // Moving on after a stop: the relaxed tissue ahead reloads over `reload` mm of advance
+    // (linearly: the blade meets fresh tissue in proportion to its advance).
+    const auto& reload = s.run->reload_mm;
+    if (s.i >= reload.size() || reload[s.i] < 0.0) return 0.0;
+    const double left = 1.0 - reload[s.i] / p[reload_index()];
+    return left > 0.0 ? -decayed(s.run->stop_length_s[s.i], p) * left * force_N : 0.0;
+  }
+  // In the hold or a stop, and after the hold while the blade withdraws.
   if (s.phase == Phase::kHold && model_silent_in_hold(*s.run, force_N)) {
     // Relax from the force measured when the hold began, since the model has none there.
     const double start = hold_start_force(*s.run);
@@ -123,6 +153,9 @@ std::string StressRelaxation::evidence(const EvidenceInput& in) const {
   }
   if (model_silent_) text += "the model predicts no force in some holds, so they relax from the force measured when the hold began: ";
   text += format("during holds the force decays by %.0f %% within %.1f s", lost, longest);
+  bool stops = false;
+  for (const PreparedRun* r : in.runs) stops = stops || std::any_of(r->reload_mm.begin(), r->reload_mm.end(), [](double v) { return v >= 0.0; });
+  if (stops) text += format("; after a stop on the way in the tissue reloads over %.2f mm of advance", p[reload_index()]);
   const double slowest = form_ == kProny ? std::max(p[1], p[3]) : (form_ == kPowerLaw ? 0.0 : p[1]);
   if (longest > 0.0 && slowest > 3.0 * longest) {
     text += format("; the time constant %.3g s is beyond 3x the longest hold: not resolved, read it as a slow, almost linear decline", slowest);

@@ -6,6 +6,8 @@
 //   one exponential              g = r (1 - exp(-t/tau))                 (standard linear solid)
 //   two-term Prony               g = r1 (1 - exp(-t/tau1)) + r2 (1 - exp(-t/tau2))
 //   power law (fractional)       g = 1 - (1 + t/t0)^-n
+// Stops on the way in relax alike; moving on, the tissue ahead reloads linearly over a
+// fitted advance `reload` [mm] (the relaxed fraction falls to 0 over it).
 // Where the model predicts no force during a hold (the hold lies outside what it describes),
 // the hold relaxes from the force measured when it began (mean over its first 20 ms).
 // Every form starts from a grid on its time constants and amplitudes (an amplitude of 0
@@ -32,6 +34,8 @@ class StressRelaxation final : public FamilyTerm {
   double decayed(double t_s, const double* p) const;
 
  private:
+  std::vector<ParamSpec> decay_params() const;  // shared_params() without `reload`
+  int reload_index() const;                     // where `reload` is in the shared parameters
   mutable std::atomic<bool> model_silent_{false};  // some hold lay where the model has no force
 };
 
