@@ -1,8 +1,9 @@
 #pragma once
 // spatial_ripple: a force ripple periodic in carriage position (lead-screw pitch, nut
 // wobble): per-run Fourier coefficients at a period shared by all runs. The run's phase is
-// its own: the screw angle at contact differs. Tare is taken at rest, wherever the ripple
-// then is: each run also gets a constant offset. The family: a pure sine (1 harmonic) or
+// its own: the screw angle at contact differs. Tare is taken at rest where the run begins,
+// so the ripple there is subtracted: each column is its value less its value at the run's
+// first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1 harmonic) or
 // 3 harmonics (sawtooth-like shapes).
 #include "family_term.hpp"
 
@@ -17,7 +18,7 @@ class SpatialRipple final : public FamilyTerm {
   std::string meaning() const override { return "force ripple periodic in displacement, e.g. lead-screw pitch (instrument)"; }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
-  int linear_columns() const override { return 2 * harmonics() + 1; }  // + the offset taken in by tare
+  int linear_columns() const override { return 2 * harmonics(); }  // less their value where the force was tared
   void design(const SampleView& s, const double* p, double* row) const override;
   std::string evidence(const EvidenceInput& in) const override;
   int harmonics() const { return form_ == kSine ? 1 : 3; }
