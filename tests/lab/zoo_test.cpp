@@ -122,6 +122,12 @@ TEST(SimulatedForms, AreNoCovariateScalingOfTheLabsExpQuadratic) {
   const auto shift = forms::covariate_change(slot(EffectKind::kCovariate, "puncture_shift"), 3.5);
   EXPECT_EQ(shift.cutting_factor, 1.0);
   EXPECT_GT(shift.puncture_shift_mm, 0.1) << "moves the puncture: no force scaling can say that";
+  // ... and levels off: not the lab's shift, quadratic in the covariate.
+  const EffectSlot moving = slot(EffectKind::kCovariate, "puncture_shift");
+  const double r = residual_against(grid(0.5, 3.5, 60), [&](double h) { return forms::covariate_change(moving, h).puncture_shift_mm; },
+                                    [](double h) { const double z = h - 2.0; return std::vector<double>{1.0, z, z * z}; });
+  std::printf("covariate:puncture_shift residual %.3f against the lab's quadratic shift\n", r);
+  EXPECT_GT(r, kLeftOver);
 }
 
 TEST(SimulatedForms, FrictionDependsOnSpeedOrHoldsAtRestUnlikeTheLabsTerm) {

@@ -6,7 +6,8 @@ namespace rig::model::effects {
 
 const std::vector<std::string>& CovariateScaling::form_names() {
   static const std::vector<std::string> kNames = {"per phase, quadratic", "exponential, all phases", "linear, all phases",
-                                                  "after the puncture only", "before the puncture only"};
+                                                  "after the puncture only", "before the puncture only",
+                                                  "moves the puncture"};
   return kNames;
 }
 
@@ -16,6 +17,7 @@ std::vector<ParamSpec> CovariateScaling::shared_params() const {
     case kLinear: return {{"c_lin", "1", 0.0, -0.9, 0.9}};
     case kAfterPuncture: return {{"c_cut", "1", 0.0, -2.0, 2.0}};
     case kBeforePuncture: return {{"c_pre", "1", 0.0, -2.0, 2.0}};
+    case kPunctureShift: return {{"xpi_1", "mm", 0.0, -1.5, 1.5}, {"xpi_2", "mm", 0.0, -1.0, 1.0}};
     default: return {{"c1", "1", 0.0, -2.0, 2.0}, {"c2", "1", 0.0, -1.0, 1.0}, {"c3", "1", 0.0, -2.0, 2.0}, {"c4", "1", 0.0, -1.0, 1.0}};
   }
 }
@@ -31,7 +33,16 @@ bool CovariateScaling::applicable(const std::vector<const PreparedRun*>& runs, s
   return spread_ > 0.0;
 }
 
+// Softer or stiffer tissue yields earlier or later: the puncture depth moves by
+// xpi_1 z + xpi_2 z^2 [mm], the forces themselves unscaled.
+void CovariateScaling::adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const {
+  if (form_ != kPunctureShift) return;
+  const double z = (run.covariate(key_, 0).value_or(mean_) - mean_) / spread_;
+  model.x_pi_shift += p[0] * z + p[1] * z * z;
+}
+
 double CovariateScaling::scale(const SampleView& s, const double* p) const {
+  if (form_ == kPunctureShift) return 1.0;
   const double z = (s.run->covariate(key_, s.i).value_or(mean_) - mean_) / spread_;
   switch (form_) {
     case kExponential: return std::exp(p[0] * z);
@@ -52,6 +63,7 @@ std::string CovariateScaling::evidence(const EvidenceInput& in) const {
     case kLinear: text = format("linear in the covariate, all phases: tissue force changes %+.1f %% per unit of ", per_unit) + key_; break;
     case kAfterPuncture: text = format("acts after the puncture only: cutting force changes %+.1f %% per unit of ", per_unit) + key_; break;
     case kBeforePuncture: text = format("acts before the puncture only: pre-cut force changes %+.1f %% per unit of ", per_unit) + key_; break;
+    case kPunctureShift: text = format("moves the puncture: %+.3f mm per unit of ", p[0] / spread_) + key_ + format(" at the mean (curvature %+.3f mm per spread squared)", p[1]); break;
     default:
       text = format("per phase: tissue force changes %+.1f %% per unit of ", per_unit) + key_ +
              format(" before the puncture and %+.1f %% per unit after it", 100.0 * p[2] / spread_);

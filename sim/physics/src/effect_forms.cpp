@@ -116,8 +116,8 @@ CovariateChange covariate_change(const EffectSlot& slot, double value) {
     case 1:  // hinge on every phase: no change below 1.5, then -10 % per unit
       change.precut_factor = change.cutting_factor = std::max(0.1, 1.0 - 0.1 * slot.size * std::max(0.0, value - 1.5));
       break;
-    default:  // the puncture moves deeper: softer tissue yields later
-      change.puncture_shift_mm = 0.15 * slot.size * dh;
+    default:  // the puncture moves deeper: softer tissue yields later, levelling off
+      change.puncture_shift_mm = 0.25 * slot.size * std::tanh(dh / 1.5);
       break;
   }
   return change;
