@@ -12,6 +12,15 @@ const std::vector<std::string>& RateDependence::form_names() {
 }
 
 std::vector<ParamSpec> RateDependence::shared_params() const {
+  std::vector<ParamSpec> out = law_params();
+  out.push_back({"at_rest", "1", 1.0, 0.0, 1.5});
+  out.push_back({"before_puncture", "1", 1.0, 0.0, 1.5});
+  return out;
+}
+
+int RateDependence::law_param_count() const { return form_ == kPowerLaw || form_ == kLinear ? 1 : 2; }
+
+std::vector<ParamSpec> RateDependence::law_params() const {
   switch (form_) {
     case kPowerLaw: return {{"n", "1", 0.0, -2.0, 2.0}};
     case kLinear: return {{"c", "s/mm", 0.0, -0.45, 2.0}};
@@ -21,9 +30,22 @@ std::vector<ParamSpec> RateDependence::shared_params() const {
 }
 
 std::vector<std::vector<double>> RateDependence::starts() const {
-  if (form_ != kSaturating) return EffectTerm::starts();
-  std::vector<std::vector<double>> out;  // A = 0 leaves v_c without a gradient
-  for (const double v_c : {0.3, 1.0, 3.0, 10.0}) out.push_back({0.5, v_c}), out.push_back({-0.3, v_c});
+  std::vector<std::vector<double>> laws;
+  if (form_ == kSaturating) {  // A = 0 leaves v_c without a gradient
+    for (const double v_c : {0.3, 1.0, 3.0, 10.0}) laws.push_back({0.5, v_c}), laws.push_back({-0.3, v_c});
+  } else {
+    std::vector<double> law;
+    for (const ParamSpec& spec : law_params()) law.push_back(spec.initial);
+    laws.push_back(law);
+  }
+  std::vector<std::vector<double>> out;  // where it acts: everywhere, while cutting only
+  for (const auto& [rest, pre] : {std::pair{1.0, 1.0}, std::pair{0.0, 1.0}, std::pair{0.0, 0.0}}) {
+    for (auto start : laws) {
+      start.push_back(rest);
+      start.push_back(pre);
+      out.push_back(std::move(start));
+    }
+  }
   return out;
 }
 
@@ -47,7 +69,17 @@ double RateDependence::factor(double velocity_mm_s, const double* p) const {
   }
 }
 
-double RateDependence::scale(const SampleView& s, const double* p) const { return factor(s.run->velocity_cmd_mm_s, p); }
+// The run's law at its insertion velocity, while the blade advances; a fitted share of it
+// where the blade stands (stops, the hold) or withdraws, and before the puncture: a
+// viscous cutting resistance needs motion and a cut, an elastic stiffening does not.
+double RateDependence::scale(const SampleView& s, const double* p) const {
+  const double f = factor(s.run->velocity_cmd_mm_s, p);
+  const int k = law_param_count();
+  const bool standing = s.phase == Phase::kHold || s.phase == Phase::kRetraction || s.hold_s > 0.0;
+  double share = standing ? p[k] : 1.0;
+  if (!s.after_puncture) share *= p[k + 1];
+  return std::max(0.05, 1.0 + share * (f - 1.0));
+}
 
 std::string RateDependence::evidence(const EvidenceInput& in) const {
   double lo = 1e9, hi = 0.0;
@@ -60,8 +92,11 @@ std::string RateDependence::evidence(const EvidenceInput& in) const {
     case kSaturating: law = format("saturating rate (Carreau-like), %+.0f %% at most, half-way at %.2f mm/s: ", 100.0 * p[0], p[1]); break;
     default: law = format("log-quadratic rate, %.2f ln(v) %+.2f ln(v)^2: ", p[0], p[1]); break;
   }
+  const int k = law_param_count();
   return law + format("tissue force is %+.1f %% at %.2g mm/s and %+.1f %% at %.2g mm/s relative to the model's velocity",
-                      100.0 * (factor(lo, p) - 1.0), lo, 100.0 * (factor(hi, p) - 1.0), hi) + honesty(in);
+                      100.0 * (factor(lo, p) - 1.0), lo, 100.0 * (factor(hi, p) - 1.0), hi) +
+         format("; %.0f %% of it remains where the blade stands or withdraws, %.0f %% acts before the puncture", 100.0 * p[k],
+                100.0 * p[k + 1]) + honesty(in);
 }
 
 }  // namespace rig::model::effects

@@ -5,6 +5,10 @@
 //   log-quadratic       F *= exp(b1 u + b2 u^2), u = ln(v/v_ref)   (curved power law)
 //   linear              F *= 1 + c (v - v_ref)
 //   saturating          F *= (1 + A h(v)) / (1 + A h(v_ref)), h(v) = v / (v + v_c)   (Carreau-like)
+// at the run's insertion velocity while the blade advances; every form also fits where it
+// acts: the share `at_rest` of the change that remains where the blade stands (stops, the
+// hold) or withdraws, and the share `before_puncture` before the cut begins (0: a viscous
+// cutting resistance, 1: a stiffening of the whole tissue).
 #include "family_term.hpp"
 
 namespace rig::model::effects {
@@ -25,6 +29,8 @@ class RateDependence final : public FamilyTerm {
   double factor(double velocity_mm_s, const double* p) const;
 
  private:
+  std::vector<ParamSpec> law_params() const;  // the law's own, without where it acts
+  int law_param_count() const;
   double v_ref_;
 };
 
