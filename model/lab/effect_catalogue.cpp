@@ -195,8 +195,17 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
   in.runs = runs_;
   in.forms = static_cast<int>(make_in_form(name, -1)->forms().size());
   in.make_form = [&](int form) { return make_in_form(name, form); };
-  std::call_once(cache_->baseline_once, [&] { cache_->baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in)); });
-  const effects::FormChoice choice = effects::select_form(in, *cache_->baseline);
+  // The shared baseline holds every accepted effect; an accepted effect's own form is chosen
+  // over a baseline without it, whose terms differ: that one is fitted for it alone.
+  const bool accepted = std::find(with_.begin(), with_.end(), name) != with_.end();
+  std::shared_ptr<const effects::SelectionBaseline> baseline;
+  if (accepted) {
+    baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in));
+  } else {
+    std::call_once(cache_->baseline_once, [&] { cache_->baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in)); });
+    baseline = cache_->baseline;
+  }
+  const effects::FormChoice choice = effects::select_form(in, *baseline);
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   cache_->chosen.emplace(name, std::make_pair(choice.form, choice.note));
   return with_note(choice.form, choice.note);

@@ -167,6 +167,31 @@ TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
   }
 }
 
+TEST(Diagnose, WithTwoAcceptedEffectsChoosesEachOnesFormOverABaselineOfTheOther) {
+  // Each accepted effect's form is chosen over a baseline holding the other one; a baseline
+  // shared between them once handed one term the other's parameters (a read out of bounds,
+  // a crash of `diagnose --with shaft_friction,sensor_drift`).
+  std::vector<RunData> runs;
+  for (const double v : {1.0, 2.0, 3.0}) {
+    sim::GeneratorOptions g;
+    std::string error;
+    g.effects.push_back(*sim::parse_hidden_effect("shaft_friction", error));
+    sim::RunSpec spec;
+    spec.depth_mm = 8.0;
+    spec.velocity_mm_s = v;
+    spec.seed = static_cast<std::uint64_t>(10 * v);
+    spec.eye_id = "two-accepted";
+    runs.push_back(sim::generate_run(g, spec));
+  }
+  DiagnoseOptions o;
+  o.with = {"shaft_friction", "sensor_drift"};
+  o.only = {"spatial_ripple"};
+  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), runs, o);
+  EXPECT_EQ(d.base_effects, (std::vector<std::string>{"shaft_friction", "sensor_drift"}));
+  EXPECT_GT(d.baseline_cv_rmse_N, 0.0);
+  EXPECT_TRUE(std::isfinite(d.baseline_cv_rmse_N));
+}
+
 TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
   const RunData needle = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const Segmentation s = detect_phases(needle);

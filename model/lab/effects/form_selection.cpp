@@ -94,7 +94,9 @@ SelectionBaseline fit_selection_baseline(const FormSelectionInput& in) {
   const auto runs = b.run_pointers();
   const Predictor base(*in.model, in.base_terms);
   b.fit = base.initial_params();
-  for (std::size_t k = 0; k < in.base_params.size() && k < b.fit.shared.size(); ++k) b.fit.shared[k] = in.base_params[k];
+  for (std::size_t k = 0; k < in.base_params.size() && k < b.fit.shared.size(); ++k) {
+    if (in.base_params[k].size() == b.fit.shared[k].size()) b.fit.shared[k] = in.base_params[k];
+  }
   if (runs.empty()) return b;
   b.fit = Fitter(base, runs).fit(b.fit, 2 * kMaxEvaluations).params;
   b.n_effective = sse_and_n_effective(base, runs, b.fit).second;
@@ -116,7 +118,10 @@ FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& ba
     const Predictor predictor(*in.model, terms);
     ModelParams p = predictor.initial_params();
     p.base = baseline.fit.base;
-    for (std::size_t k = 0; k < baseline.fit.shared.size(); ++k) p.shared[k] = baseline.fit.shared[k];
+    // Only where the baseline's terms are these (a term in another form keeps its start).
+    for (std::size_t k = 0; k < baseline.fit.shared.size() && k + 1 < p.shared.size(); ++k) {
+      if (p.shared[k].size() == baseline.fit.shared[k].size()) p.shared[k] = baseline.fit.shared[k];
+    }
     pick_start(predictor, runs, *term, p);
     // The baseline is refitted with the form: held at its own fit, it favours the forms
     // flexible enough to make up for what it absorbed of the effect.
