@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include <charconv>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -54,6 +55,26 @@ RunInfo run_info(archive::Database& db, std::int64_t run_id) {
   return info;
 }
 
+// A sample's phase as the recorder writes it (rt::CutPhase): any other number in the archive
+// is refused, naming the run and the sample (the phase names are a table indexed by it).
+rt::CutPhase phase_of(std::int64_t phase, std::int64_t run_id, std::int64_t idx) {
+  if (phase < 0 || phase > static_cast<std::int64_t>(rt::CutPhase::kRetract)) {
+    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample " + std::to_string(idx) + ": phase " +
+                             std::to_string(phase) + " is not a cut phase (0..4)");
+  }
+  return static_cast<rt::CutPhase>(phase);
+}
+
+// A sample's index as the recorder writes it (its loop cycle, >= 0 by the query); the page
+// asks for the cycle after the last, so the largest integer is refused, naming the run.
+std::int64_t cycle_of(std::int64_t idx, std::int64_t run_id) {
+  if (idx == std::numeric_limits<std::int64_t>::max()) {
+    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample index " + std::to_string(idx) +
+                             " is not a loop cycle (0 .. 2^63-2)");
+  }
+  return idx;
+}
+
 // Samples from the cycle on, column-wise as in the live SampleBatch.
 void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id,
                  const ReplayQuery& query, const std::shared_ptr<const model::ForceModel>& model) {
@@ -69,9 +90,9 @@ void add_samples(nlohmann::json& j, archive::Database& db, std::int64_t run_id,
       more = true;
       break;
     }
-    columns.add(q.integer(0), q.real(1), q.real(2), q.real(3),
+    columns.add(cycle_of(q.integer(0), run_id), q.real(1), q.real(2), q.real(3),
                 q.maybe_real(4).value_or(std::numeric_limits<double>::quiet_NaN()),
-                static_cast<rt::CutPhase>(q.integer(5)));
+                phase_of(q.integer(5), run_id, q.integer(0)));
   }
   columns.write(j, query.from_cycle, more);
 }
@@ -116,10 +137,29 @@ std::string run_stream_json(archive::Archive& archive, std::int64_t run_id,
   return json_text(j);
 }
 
+namespace {
+
+// The frame's bytes must lie in its file (a regular file) before any is allocated or read:
+// the archive's row holds the size, and a damaged row asked for terabytes (or /dev/zero).
+void require_frame_in_file(const archive::FrameRow& f) {
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::is_regular_file(f.file, ec) ? std::filesystem::file_size(f.file, ec) : 0;
+  const bool inside = !ec && f.bytes >= 0 && f.file_offset >= 0 && static_cast<std::uintmax_t>(f.file_offset) <= file_bytes &&
+                      static_cast<std::uintmax_t>(f.bytes) <= file_bytes - static_cast<std::uintmax_t>(f.file_offset);
+  if (!inside) {
+    throw std::runtime_error("archive run " + std::to_string(f.run_id) + ": frame " + std::to_string(f.frame_no) + ": " +
+                             std::to_string(f.bytes) + " B at offset " + std::to_string(f.file_offset) +
+                             " are not in its frame file " + f.file + " (" + std::to_string(file_bytes) + " B)");
+  }
+}
+
+}  // namespace
+
 FramePixels read_archived_frame(archive::Archive& archive, std::int64_t run_id,
                                 std::int64_t frame_no) {
   for (const auto& f : archive.run_frames(run_id)) {
     if (f.frame_no != frame_no) continue;
+    require_frame_in_file(f);
     FramePixels out{f.width, f.height, f.sample_index,
                     std::string(static_cast<std::size_t>(f.bytes), '\0')};
     std::ifstream in(f.file, std::ios::binary);

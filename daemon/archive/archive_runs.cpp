@@ -41,9 +41,17 @@ model::RunData Archive::load_run(std::int64_t run_id) {
     Statement ch = db_.prepare("SELECT name, data FROM channels WHERE run_id = ? ORDER BY rowid");
     ch.bind(1, run_id);
     while (ch.step()) {
-      const auto data = ch.blob(1);
-      run.channels.push_back({ch.text(0), std::vector<double>(data.begin(), data.end())});
+      if (ch.blob_bytes(1) % sizeof(double) != 0) {
+        throw ArchiveError("archive " + path() + ": run " + std::to_string(run_id) + ": channel '" + ch.text(0) + "': " +
+                           std::to_string(ch.blob_bytes(1)) + " bytes are not a whole number of doubles");
+      }
+      run.channels.push_back({ch.text(0), ch.blob(1)});
     }
+  }
+  // The lab and the run-CSV writer index every channel by sample: a channel of another length
+  // (a hand-edited or damaged archive) is refused here, naming it.
+  if (const auto mismatch = run.channel_length_mismatch()) {
+    throw ArchiveError("archive " + path() + ": run " + std::to_string(run_id) + ": " + *mismatch);
   }
   return run;
 }

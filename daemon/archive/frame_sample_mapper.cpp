@@ -34,10 +34,14 @@ void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
 // smallest (arrival - camera time) seen: that is the clock offset plus the fastest transfer,
 // so the estimate falls just after the frame's own trigger (by that fastest transfer) and
 // before the next one, however long this frame waited in queues. The frame answers the
-// latest trigger that had reached the camera before the estimate.
+// latest trigger that had reached the camera before the estimate. The first frame is the
+// whole mapping so far: its estimate is its own arrival, which its transfer time may push past
+// the next trigger; cameras answer triggers in order, so it answers the oldest one.
 std::size_t FrameSampleMapper::answered_trigger(std::uint64_t camera_ns, std::uint64_t arrival_ns) {
   const auto offset = static_cast<std::int64_t>(arrival_ns) - static_cast<std::int64_t>(camera_ns);
-  if (!camera_to_host_ns_ || offset < *camera_to_host_ns_) camera_to_host_ns_ = offset;
+  const bool first_timestamped_frame = !camera_to_host_ns_;
+  if (first_timestamped_frame || offset < *camera_to_host_ns_) camera_to_host_ns_ = offset;
+  if (first_timestamped_frame) return 0;
   const std::int64_t exposed_host_ns = static_cast<std::int64_t>(camera_ns) + *camera_to_host_ns_;
   std::size_t best = 0;
   for (std::size_t i = 1; i < pending_.size() && static_cast<std::int64_t>(pending_[i].reached_by_ns) <= exposed_host_ns; ++i) best = i;
@@ -57,6 +61,12 @@ std::optional<std::int64_t> FrameSampleMapper::on_frame(std::uint64_t frame_id, 
   lost_ += k;
   last_latency_ns_ = arrival_ns - claimed.host_ns;
   return claimed.sample_index;
+}
+
+void FrameSampleMapper::count_unanswered_triggers_as_lost() {
+  std::lock_guard lock(mutex_);
+  lost_ += pending_.size();
+  pending_.clear();
 }
 
 std::uint64_t FrameSampleMapper::lost_frames() const {

@@ -5,9 +5,10 @@
 // close triggers into one frame. So the pairing uses the camera's own timestamp of the
 // exposure, mapped to the host clock through the smallest (arrival - camera time) seen so
 // far: the frame answers the latest trigger raised before that estimate; older pending
-// triggers got no frame (lost). The first frames after start calibrate the mapping: one
-// that waited in a queue longer than a trigger period before any prompt frame was seen
-// can be tied one trigger late. Without camera timestamps (0), frames and triggers pair in
+// triggers got no frame (lost). The first frame calibrates the mapping and has no estimate
+// of its own: it answers the oldest pending trigger, as cameras answer in order. The next
+// frames refine the mapping: one that waited in a queue longer than a trigger period before
+// any prompt frame was seen can be tied one trigger late. Without camera timestamps (0), frames and triggers pair in
 // order and a gap in the camera's frame ids drops as many triggers. A frame that arrives
 // before any pending trigger was raised is not tied to a sample.
 // A software trigger is a command the camera acknowledges: it reached the camera between
@@ -31,6 +32,10 @@ class FrameSampleMapper {
   // frame_id: the camera's frame/block counter; camera_ns: its exposure timestamp (0 if it
   // has none); arrival [ns, CLOCK_MONOTONIC].
   std::optional<std::int64_t> on_frame(std::uint64_t frame_id, std::uint64_t camera_ns, std::uint64_t arrival_ns);
+  // The run is over and no more frames will be read: the triggers still waiting for a frame
+  // never got one and are counted lost (a camera that merged or dropped the run's last
+  // triggers must show in lost_frames(), not vanish).
+  void count_unanswered_triggers_as_lost();
   std::uint64_t lost_frames() const;       // triggers that never got a frame
   std::uint64_t untied_frames() const;     // frames with no trigger before them
   // Latency of the last tied frame, trigger to arrival [ns].

@@ -1,6 +1,7 @@
 #include "sqlite_handle.hpp"
 
 #include <chrono>
+#include <cstring>
 #include <thread>
 
 namespace rig::archive {
@@ -100,10 +101,13 @@ std::string Statement::text(int column) const {
   const auto* p = sqlite3_column_text(stmt_.get(), column);
   return p != nullptr ? std::string(reinterpret_cast<const char*>(p)) : std::string();
 }
-std::span<const double> Statement::blob(int column) const {
+std::vector<double> Statement::blob(int column) const {
   const void* p = sqlite3_column_blob(stmt_.get(), column);
-  const int bytes = sqlite3_column_bytes(stmt_.get(), column);
-  return {static_cast<const double*>(p), static_cast<std::size_t>(bytes) / sizeof(double)};
+  std::vector<double> values(blob_bytes(column) / sizeof(double));
+  if (!values.empty()) std::memcpy(values.data(), p, values.size() * sizeof(double));
+  return values;
 }
-
+std::size_t Statement::blob_bytes(int column) const {
+  return static_cast<std::size_t>(sqlite3_column_bytes(stmt_.get(), column));
+}
 }  // namespace rig::archive

@@ -9,6 +9,7 @@
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace rig::archive {
 
@@ -40,7 +41,10 @@ class Statement {
   double real(int column) const;
   std::optional<double> maybe_real(int column) const;
   std::string text(int column) const;
-  std::span<const double> blob(int column) const;
+  // A blob of doubles, copied: SQLite's blob is not aligned for double. Trailing bytes that
+  // make no whole double are left out (blob_bytes() tells).
+  std::vector<double> blob(int column) const;
+  std::size_t blob_bytes(int column) const;
   bool is_null(int column) const;
 
  private:

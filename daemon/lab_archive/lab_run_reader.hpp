@@ -46,9 +46,6 @@ class LabRunReader {
   PgConnection& connection() { return db_; }
 
  private:
-  std::vector<std::pair<std::string, std::string>> run_meta(const std::string& run_uuid, double& surface_mm,
-                                                             bool& from_rig);
-  void load_channels(const std::string& run_uuid, model::RunData& run);
   PgConnection db_;
 };
 

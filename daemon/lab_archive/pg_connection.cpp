@@ -5,11 +5,18 @@
 
 namespace rig::lab_archive {
 
+// "column 'samples' of row 3: 'abc' is not an integer" (the value cut to 40 bytes).
+std::string PgResult::bad_value(int row, int column, const char* expected) const {
+  const char* name = PQfname(result_.get(), column);
+  return "lab archive: column '" + std::string(name != nullptr ? name : "?") + "' of row " + std::to_string(row) + ": '" +
+         std::string(raw(row, column)).substr(0, 40) + "' is not " + expected;
+}
+
 long long PgResult::integer(int row, int column) const {
   const char* text = raw(row, column);
   long long value = 0;
   const char* end = text + std::char_traits<char>::length(text);
-  if (std::from_chars(text, end, value).ec != std::errc{}) throw LabArchiveError(std::string("not an integer: ") + text);
+  if (std::from_chars(text, end, value).ec != std::errc{}) throw LabArchiveError(bad_value(row, column, "an integer"));
   return value;
 }
 
@@ -17,7 +24,7 @@ double PgResult::real(int row, int column) const {
   const char* text = raw(row, column);
   char* end = nullptr;
   const double value = std::strtod(text, &end);  // also reads NaN and Infinity as PostgreSQL prints them
-  if (end == text) throw LabArchiveError(std::string("not a number: ") + text);
+  if (end == text) throw LabArchiveError(bad_value(row, column, "a number"));
   return value;
 }
 

@@ -36,6 +36,7 @@ class PgResult {
   double real(int row, int column) const;
 
  private:
+  std::string bad_value(int row, int column, const char* expected) const;
   std::unique_ptr<PGresult, ResultDeleter> result_;
 };
 

@@ -45,15 +45,24 @@ bool ForceModel::extrapolates(double iop) const {
   return out;
 }
 
+ForceModel::RunDepths ForceModel::depths(double iop_mmHg) const { return {iop_mmHg, puncture_depth_mm(iop_mmHg), final_depth_mm(iop_mmHg)}; }
+
 double ForceModel::baseline(double x_mm, double iop_mmHg) const {
   if (x_mm <= 0.0) return 0.0;
-  return form == ModelForm::kPrinted ? as_printed(x_mm, iop_mmHg) : continuous(x_mm, iop_mmHg);
+  return form == ModelForm::kPrinted ? as_printed(x_mm, iop_mmHg) : continuous(x_mm, depths(iop_mmHg));
 }
 
 double ForceModel::baseline(double x_mm, double front_mm, double iop_mmHg) const {
-  if (x_mm >= front_mm || form == ModelForm::kPrinted) return baseline(x_mm, iop_mmHg);
-  const double release = std::max(0.0, 1.0 - (front_mm - x_mm) / std::max(params.w_release, 1e-4));
-  return baseline(front_mm, iop_mmHg) * release;
+  return form == ModelForm::kPrinted ? baseline(x_mm, iop_mmHg) : baseline(x_mm, front_mm, depths(iop_mmHg));
+}
+
+double ForceModel::baseline(double x_mm, double front_mm, const RunDepths& run) const {
+  if (form == ModelForm::kPrinted) return baseline(x_mm, run.iop_mmHg);
+  const double at = std::max(x_mm, front_mm);  // held or withdrawn: the force reached at the front
+  if (at <= 0.0) return 0.0;
+  const double force = continuous(at, run);
+  if (x_mm >= front_mm) return force;
+  return force * std::max(0.0, 1.0 - (front_mm - x_mm) / std::max(params.w_release, 1e-4));
 }
 
 double cutting_plateau(const ContinuousParams& p, double x_mm, double iop_mmHg) {
@@ -61,10 +70,11 @@ double cutting_plateau(const ContinuousParams& p, double x_mm, double iop_mmHg) 
   return p.d * (std::log(arg) - p.f * x_mm) + p.g * iop_mmHg + p.g0;
 }
 
-double ForceModel::continuous(double x, double iop) const {
+double ForceModel::continuous(double x, const RunDepths& run) const {
   const ContinuousParams& p = params;
-  const double xpi = puncture_depth_mm(iop);
-  const double xpf = final_depth_mm(iop);
+  const double iop = run.iop_mmHg;
+  const double xpi = run.x_pi_mm;
+  const double xpf = run.x_pf_mm;
   const double xc = std::min(p.x_c, xpf - 1e-3);
   auto precut = [&](double at) { return at <= p.x1 ? p.a * at : p.a * p.x1 + p.b * (at - p.x1); };
   if (x < xpi) return precut(x);

@@ -71,6 +71,17 @@ class ForceModel {
   double final_depth_mm(double iop_mmHg) const;
   bool extrapolates(double iop_mmHg) const;
 
+  // One run's IOP and the depths it sets, looked up once: a fit evaluates a run at hundreds
+  // of rows, and the two table lookups per row were a tenth of a diagnosis' time.
+  struct RunDepths {
+    double iop_mmHg = 15.0;
+    double x_pi_mm = 0.0;  // puncture depth (with the fitted shift)
+    double x_pf_mm = 0.0;  // final depth of the cut (with the fitted shift)
+  };
+  RunDepths depths(double iop_mmHg) const;
+  // As baseline(x, front, iop), with the run's depths looked up before.
+  double baseline(double x_mm, double front_mm, const RunDepths& run) const;
+
   std::string name = "paper-interpreted";
   std::string path;
   ModelForm form = ModelForm::kContinuous;
@@ -85,7 +96,7 @@ class ForceModel {
   std::vector<UserTerm> candidate_terms;
 
  private:
-  double continuous(double x_mm, double iop_mmHg) const;
+  double continuous(double x_mm, const RunDepths& run) const;
   double as_printed(double x_mm, double iop_mmHg) const;
 };
 

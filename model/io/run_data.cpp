@@ -39,6 +39,19 @@ const Channel* RunData::channel(const std::string& name) const {
   return nullptr;
 }
 
+std::optional<std::string> RunData::channel_length_mismatch() const {
+  const auto values_for_samples = [this](const std::string& what, std::size_t values) -> std::optional<std::string> {
+    if (values == size()) return std::nullopt;
+    return what + " has " + std::to_string(values) + " values for " + std::to_string(size()) + " samples";
+  };
+  if (auto mismatch = values_for_samples("column 'x_mm'", x_mm.size())) return mismatch;
+  if (auto mismatch = values_for_samples("column 'force_N'", force_N.size())) return mismatch;
+  for (const auto& c : channels) {
+    if (auto mismatch = values_for_samples("channel '" + c.name + "'", c.values.size())) return mismatch;
+  }
+  return std::nullopt;
+}
+
 std::string RunData::label() const {
   const auto eye = text("eye_id");
   return eye ? *eye : source;

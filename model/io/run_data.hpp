@@ -28,6 +28,9 @@ struct RunData {
   std::optional<double> number(const std::string& key) const;
   void set(const std::string& key, const std::string& value);
   const Channel* channel(const std::string& name) const;
+  // The first column or channel whose length is not size(), in words ("channel 'iop_meas_mmHg'
+  // has 3 values for 5 samples"); the lab and the run-CSV writer index every channel by sample.
+  std::optional<std::string> channel_length_mismatch() const;
   std::string label() const;  // eye id if known, else the source
 };
 

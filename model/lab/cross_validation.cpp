@@ -94,6 +94,7 @@ CvResult within_run(const PreparedRun& run, const TrainedModelFor& model_for) {
       (held_out ? test : train.fit_rows).push_back(run.analysed[k]);
       if (held_out) test_at.push_back(k);
     }
+    pack_fit_rows(train);
     const TrainedModel fold = model_for({&train});
     out.folds.push_back(Fitter(*fold.predictor, {&train}).fit(fold.start));
     out.fold_forms.push_back(fold.forms);

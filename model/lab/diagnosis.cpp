@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <future>
@@ -230,18 +231,22 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
 
 std::vector<Evaluated> evaluate_all(const std::vector<std::string>& names, const ForceModel& model, const EffectCatalogue& catalogue,
                                     const DiagnoseOptions& o, const std::vector<const PreparedRun*>& runs, const CvResult& base) {
-  std::vector<std::future<Evaluated>> pending;
-  std::vector<Evaluated> out;
-  std::size_t next = 0;
-  auto launch = [&] {
-    pending.push_back(std::async(std::launch::async, evaluate, names[next++], std::cref(model), std::cref(catalogue), std::cref(o),
-                                 std::cref(runs), std::cref(base)));
+  // Each worker takes the next candidate as soon as it is free: candidates differ in cost by
+  // 10x, and waiting for them in order left a core idle for a third of a diagnosis.
+  std::vector<Evaluated> out(names.size());
+  std::atomic<std::size_t> next{0};
+  auto work = [&] {
+    try {
+      for (std::size_t i = next++; i < names.size(); i = next++) out[i] = evaluate(names[i], model, catalogue, o, runs, base);
+    } catch (...) {
+      next = names.size();  // the others stop after their current candidate
+      throw;
+    }
   };
-  for (int t = 0; t < std::max(o.threads, 1) && next < names.size(); ++t) launch();
-  for (std::size_t i = 0; i < pending.size(); ++i) {
-    out.push_back(pending[i].get());
-    if (next < names.size()) launch();
-  }
+  std::vector<std::future<void>> workers;
+  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(o.threads, 1)), names.size());
+  for (std::size_t t = 0; t < threads; ++t) workers.push_back(std::async(std::launch::async, work));
+  for (auto& w : workers) w.get();  // rethrows a candidate's exception, after every worker stopped
   return out;
 }
 

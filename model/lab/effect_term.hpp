@@ -35,6 +35,7 @@ struct SampleView {
   bool after_puncture = false;   // past the model's own x_pi (Eq. 1's phases, for the terms)
   bool cutting = false;          // between the model's x_pi and x_c while inserting
   double x_pi_mm = 0.0;          // the model's puncture depth for this run
+  const SampleInputs* inputs = nullptr;  // this sample's packed inputs (set by the predictor; else run->inputs[i])
 };
 
 // What a term may quote as evidence: its fitted shared parameters, the runs, and each run's

@@ -27,7 +27,7 @@ struct RunResidual {
     predictor->evaluate(*run, *p, rows, prediction, linear ? &X : nullptr, nullptr, &eye, tissue);
     std::vector<double> r(rows.size());
     for (std::size_t n = 0; n < rows.size(); ++n) {
-      r[n] = run->data->force_N[rows[n]] - prediction[n];
+      r[n] = run->inputs[rows[n]].force_N - prediction[n];
       if (linear) r[n] -= X.row(static_cast<Eigen::Index>(n)).dot(*beta);
     }
     return r;

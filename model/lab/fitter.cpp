@@ -84,7 +84,8 @@ std::vector<double> Fitter::residuals(const Predictor& predictor, const Prepared
   Eigen::MatrixXd X;
   predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr, nullptr, eye);
   std::vector<double> r(rows.size());
-  for (std::size_t n = 0; n < rows.size(); ++n) r[n] = run.data->force_N[rows[n]] - prediction[n];
+  const bool packed = &rows == &run.fit_rows && run.fit_inputs.size() == rows.size();
+  for (std::size_t n = 0; n < rows.size(); ++n) r[n] = (packed ? run.fit_inputs[n] : run.inputs[rows[n]]).force_N - prediction[n];
   if (predictor.linear_columns() > 0) {
     const Eigen::Map<Eigen::VectorXd> rv(r.data(), static_cast<Eigen::Index>(r.size()));
     const Eigen::VectorXd beta = solve_linear(X, rv);
@@ -117,7 +118,11 @@ void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& ey
     const auto& fit_rows = runs_[i]->fit_rows;
     predictor_->evaluate(*runs_[i], p, fit_rows, prediction, predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i], &eyes[i]);
     r[i].resize(static_cast<Eigen::Index>(fit_rows.size()));
-    for (std::size_t n = 0; n < fit_rows.size(); ++n) r[i](static_cast<Eigen::Index>(n)) = runs_[i]->data->force_N[fit_rows[n]] - prediction[n];
+    const bool packed = runs_[i]->fit_inputs.size() == fit_rows.size();
+    for (std::size_t n = 0; n < fit_rows.size(); ++n) {
+      const SampleInputs& in = packed ? runs_[i]->fit_inputs[n] : runs_[i]->inputs[fit_rows[n]];
+      r[i](static_cast<Eigen::Index>(n)) = in.force_N - prediction[n];
+    }
     rows += r[i].size();
   }
   const Eigen::Index shared = predictor_->shared_columns();

@@ -40,6 +40,7 @@ class Predictor {
   ModelParams initial_params() const;
 
  private:
+  void write_design(const SampleView& s, const ModelParams& p, std::size_t n, Eigen::MatrixXd* X, Eigen::MatrixXd* S, double* row) const;
   ForceModel model_;
   std::vector<const EffectTerm*> terms_;
   int linear_columns_ = 0;  // per run

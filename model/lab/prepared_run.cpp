@@ -11,7 +11,8 @@ namespace rig::model {
 std::optional<double> PreparedRun::covariate(const std::string& key, std::size_t i) const {
   if (const auto at = derived.find(key); at != derived.end()) return at->second;
   if (const Channel* channel = data->channel(key)) return channel->values[i];
-  return data->number(key);
+  if (const auto at = metadata_numbers.find(key); at != metadata_numbers.end()) return at->second;
+  return std::nullopt;
 }
 
 namespace {
@@ -80,6 +81,19 @@ void derive_pauses(PreparedRun& p) {
   close_stop(end);
 }
 
+// Last step of prepare_run: every per-sample input final, copy them side by side.
+void pack_inputs(PreparedRun& p, const std::vector<double> (&grid_cycles)[2]) {
+  const RunData& r = *p.data;
+  p.inputs.resize(r.size());
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    SampleInputs& in = p.inputs[i];
+    in = {r.x_mm[i], r.t_s[i], r.force_N[i], p.velocity_mm_s[i], p.hold_s[i], p.front_mm[i], {0.0, 0.0}, p.seg.phase[i]};
+    for (int k = 0; k < 2; ++k) in.grid_cycles[k] = i < grid_cycles[k].size() ? grid_cycles[k][i] : std::nan("");
+  }
+  const std::size_t parked = std::min<std::size_t>(r.size(), 20);
+  for (std::size_t i = 0; i < parked; ++i) p.parked_mm += r.x_mm[i] / static_cast<double>(parked);
+}
+
 }  // namespace
 
 std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n) {
@@ -129,9 +143,10 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   const std::size_t n = p.analysed.size();
   const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(max_fit_rows, 1));
   for (std::size_t lo = 0; lo < n; lo += stride) p.fit_rows.push_back(p.analysed[jittered_row(lo / stride, lo, std::min(n, lo + stride), n)]);
+  std::vector<double> tracked[2];
   for (int k = 0; k < 2; ++k) {
     p.grid_hz[k] = grid_line_hz(run.t_s, run.force_N, first, run.size(), k == 0 ? 50.0 : 60.0);
-    p.grid_cycles[k] = grid_cycles(run.t_s, run.force_N, first, p.grid_hz[k]);
+    tracked[k] = grid_cycles(run.t_s, run.force_N, first, p.grid_hz[k]);
   }
   p.iop_known = run.number("iop_mmHg").has_value();
   p.iop_mmHg = run.number("iop_mmHg").value_or(15.0);
@@ -140,12 +155,22 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   p.velocity_cmd_mm_s = run.number("velocity_mm_s").value_or(measured_insertion_velocity(p));
   if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
   derive_pauses(p);
+  pack_inputs(p, tracked);
+  pack_fit_rows(p);
+  for (const auto& [key, text] : run.meta) {
+    if (const auto value = run.number(key)) p.metadata_numbers[key] = *value;
+  }
   for (const auto& note : p.seg.notes) p.warnings.push_back(run.source + ": " + note);
   return p;
 }
 
+void pack_fit_rows(PreparedRun& run) {
+  run.fit_inputs.resize(run.fit_rows.size());
+  for (std::size_t n = 0; n < run.fit_rows.size(); ++n) run.fit_inputs[n] = run.inputs.at(run.fit_rows[n]);
+}
+
 RowBudget row_budget(std::size_t runs, std::size_t samples) {
-  constexpr std::size_t kFitRows = 24000, kMinFitRows = 200, kMaxFitRows = 800, kScored = 400000;
+  constexpr std::size_t kFitRows = 16000, kMinFitRows = 150, kMaxFitRows = 800, kScored = 400000;
   RowBudget b;
   runs = std::max<std::size_t>(runs, 1);
   b.fit_rows_per_run = std::clamp(kFitRows / runs, kMinFitRows, kMaxFitRows);

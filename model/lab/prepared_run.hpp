@@ -11,6 +11,20 @@
 
 namespace rig::model {
 
+// One sample's inputs to the model side by side. A fit visits about one sample in twenty of
+// each run, and one record per sample costs it one cache miss where six separate arrays cost
+// six: on 100 runs those misses were the largest single cost of a diagnosis.
+struct SampleInputs {
+  double x_mm = 0.0;
+  double t_s = 0.0;
+  double force_N = 0.0;        // measured
+  double velocity_mm_s = 0.0;  // as `velocity_mm_s` below
+  double hold_s = 0.0;         // as `hold_s` below
+  double front_mm = 0.0;       // as `front_mm` below
+  double grid_cycles[2] = {0.0, 0.0};  // the 50 and 60 Hz grid's tracked phase [cycles] (grid_line.hpp), NaN before contact
+  Phase phase = Phase::kApproach;
+};
+
 struct PreparedRun {
   const RunData* data = nullptr;
   Segmentation seg;
@@ -22,14 +36,17 @@ struct PreparedRun {
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<std::size_t> analysed;  // from first contact to the end
   std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
+  std::vector<SampleInputs> inputs;   // per sample: a copy of the above, packed for the fits (set last)
+  std::vector<SampleInputs> fit_inputs;  // inputs[fit_rows[n]] in order, read front to back by the fits (pack_fit_rows)
+  double parked_mm = 0.0;             // mean position of the first 20 samples, where the force was tared [mm]
   double iop_mmHg = 15.0;
   double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
   bool iop_known = false;
   bool velocity_known = false;
-  double grid_hz[2] = {50.0, 60.0};   // the run's own mains lines near 50 and 60 Hz (grid_line.hpp)
-  std::vector<double> grid_cycles[2]; // the grid's tracked phase at each sample [cycles] (grid_line.hpp)
+  double grid_hz[2] = {50.0, 60.0};   // the run's own mains lines near 50 and 60 Hz (grid_line.hpp); phases in `inputs`
   std::map<std::string, double> derived;  // covariates derived from the whole run set (run_order)
   std::vector<std::string> warnings;
+  std::map<std::string, double> metadata_numbers;  // the metadata's numeric values, parsed once
 
   std::size_t size() const { return data->size(); }
   // A numeric covariate: run metadata, or an extra channel's value at sample i.
@@ -38,6 +55,9 @@ struct PreparedRun {
 };
 
 PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
+// After `fit_rows` changed: copy their inputs side by side into `fit_inputs`. A fit reads
+// them hundreds of times; scattered over a 100-run set they cost a cache and a TLB miss each.
+void pack_fit_rows(PreparedRun& run);
 
 // The row kept of stratum k = [lo, hi) of a run's n analysed samples when they are thinned
 // (fit rows, scored samples): a fixed pseudo-random place in the stratum, a hash of k and n
@@ -47,8 +67,9 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows = 800);
 std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n);
 
 // Fit rows and scored samples for a set of `runs` runs holding `samples` analysed samples
-// in all: up to 800 fit rows per run while the set is small, fewer (not under 200) beyond
-// 30 runs, so that a fit sees at most ~24,000 rows; every analysed sample is scored up to
+// in all: up to 800 fit rows per run while the set is small, fewer (not under 150) beyond
+// 20 runs, so that a fit sees at most ~16,000 rows (100 runs: 160 each, still 10x the most
+// per-run coefficients of any term, and a diagnosis stays under 30 s on 2 cores); every analysed sample is scored up to
 // 400,000 in all, beyond that evenly thinned (100 runs x 15,000 samples: 4,000 per run).
 struct RowBudget {
   std::size_t fit_rows_per_run = 800;

@@ -32,10 +32,12 @@ std::vector<rig::model::RunData> timing_runs(int runs, const std::string& effect
     g.effects.push_back(*parsed);
   }
   std::vector<rig::model::RunData> data;
-  // 14 mm at 1-3 mm/s with approach and retraction: ~15,000 samples on average.
+  // The zoo's protocol (two stops on the way in, a hold at depth: every candidate, relaxation
+  // included, has something to fit) at 1-3 mm/s with approach and retraction.
   const auto specs = rig::sim::design_runs({15, 16, 17, 18, 15.5}, {1, 1.5, 2, 2.5, 3}, {0.5, 1.5, 2.5, 3.5}, 14.0, 0.0, 9);
   for (int i = 0; i < runs; ++i) {
     rig::sim::RunSpec spec = specs[static_cast<std::size_t>(i) % specs.size()];
+    rig::sim::apply_standard_protocol(spec);
     spec.seed += static_cast<std::uint64_t>(i) * 7919;
     spec.eye_id += "-" + std::to_string(i);
     data.push_back(rig::sim::generate_run(g, spec));

@@ -12,6 +12,7 @@
 #include "command.hpp"
 #include "comparison.hpp"
 #include "diagnosis.hpp"
+#include "effects/iop_stiffness.hpp"
 #include "grid_line.hpp"
 #include "lab_scenarios.hpp"
 #include "model_fit.hpp"
@@ -135,6 +136,29 @@ TEST(GridLine, IsFoundToAHundredthOfAHertzUnderNoiseAndACuttingForce) {
   // Too short or too slowly sampled to tell: the nominal.
   const std::vector<double> t = {0.0, 0.01, 0.02, 0.03}, f = {0.0, 1.0, 0.0, 1.0};
   EXPECT_EQ(grid_line_hz(t, f, 0, t.size(), 50.0), 50.0);
+}
+
+TEST(IopStiffness, ShorterToeFormMovesTheEndOfTheToeWithPressureAndKeepsTheSlopes) {
+  // Pre-stress enters the same stiffening curve later: the toe ends earlier at a higher IOP,
+  // neither slope changes; the other forms leave the toe where it is.
+  const effects::IopStiffness toe(effects::IopStiffness::kShorterToe);
+  RunData data = one_run({});
+  data.set("iop_mmHg", "18");
+  const PreparedRun run = prepare_run(data);
+  ASSERT_TRUE(run.iop_known);
+  const double s = 0.1;  // [mm/mmHg]
+  ContinuousParams m;
+  const ContinuousParams before = m;
+  toe.adjust_model(run, &s, m);
+  EXPECT_NEAR(m.x1, before.x1 - 0.3, 1e-12);
+  EXPECT_EQ(m.a, before.a);
+  EXPECT_EQ(m.b, before.b);
+  const effects::IopStiffness linear(effects::IopStiffness::kLinear);
+  ContinuousParams n;
+  linear.adjust_model(run, &s, n);
+  EXPECT_EQ(n.x1, before.x1);
+  EXPECT_NEAR(n.a, before.a * 1.3, 1e-12);
+  EXPECT_NE(toe.evidence({&s, {&run}, {}}).find("toe region ends +0.100 mm earlier per mmHg"), std::string::npos);
 }
 
 TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {

@@ -191,6 +191,49 @@ TEST(FrameSampleMapper, ATriggerDelayedOnItsWayToTheCameraStillGetsItsOwnFrame) 
   EXPECT_EQ(mapper.on_frame(3, 120 * kMs, 121 * kMs), 130);
 }
 
+// Issue 13 (fake GigE camera): the camera's first poll after start came 96 ms after trigger
+// 100, and the frame took 4 ms to arrive, after trigger 110 was raised and acknowledged. The
+// first frame is all the camera-to-host mapping knows, so its estimate is its arrival: it must
+// answer the oldest trigger (cameras answer in order), not skip 100 as lost and take 110's
+// sample, which would leave 110's own frame untied.
+TEST(FrameSampleMapper, TheFirstFrameAnswersTheOldestTriggerEvenIfItArrivesAfterTheNextOne) {
+  FrameSampleMapper mapper;
+  mapper.on_trigger(100, 0 * kMs);
+  mapper.on_trigger_acknowledged(100, 1 * kMs);
+  mapper.on_trigger(110, 100 * kMs);
+  mapper.on_trigger_acknowledged(110, 101 * kMs);
+  EXPECT_EQ(mapper.on_frame(1, 96 * kMs, 104 * kMs), 100);  // camera clock = host - 4 ms + transfer
+  EXPECT_EQ(mapper.on_frame(2, 112 * kMs, 113 * kMs), 110);  // a prompt frame refines the mapping
+  mapper.on_trigger(120, 200 * kMs);
+  mapper.on_trigger_acknowledged(120, 201 * kMs);
+  EXPECT_EQ(mapper.on_frame(3, 210 * kMs, 211 * kMs), 120);
+  EXPECT_EQ(mapper.lost_frames(), 0U);
+  EXPECT_EQ(mapper.untied_frames(), 0U);
+}
+
+// Issue 13 (fake GigE camera, busy machine): the camera's acquisition thread was starved and
+// took the run's last two triggers in one poll, one frame for both. Trigger 120's
+// acknowledgement reached the host after that exposure, so the frame answers 110 (the latest
+// trigger known to be at the camera) and 120 waits for a frame that never comes. When the run
+// ends it is a lost trigger, not a silent one.
+TEST(FrameSampleMapper, ATriggerStillUnansweredWhenTheRunEndsIsCountedLost) {
+  FrameSampleMapper mapper;
+  mapper.on_trigger(100, 10 * kMs);
+  mapper.on_trigger_acknowledged(100, 11 * kMs);
+  EXPECT_EQ(mapper.on_frame(1, 12 * kMs, 13 * kMs), 100);  // learns the offset: same clock + 1 ms
+  mapper.on_trigger(110, 110 * kMs);
+  mapper.on_trigger_acknowledged(110, 111 * kMs);
+  mapper.on_trigger(120, 210 * kMs);
+  mapper.on_trigger_acknowledged(120, 260 * kMs);            // the host read the ack late
+  EXPECT_EQ(mapper.on_frame(2, 250 * kMs, 251 * kMs), 110);  // one frame for 110 and 120
+  EXPECT_EQ(mapper.lost_frames(), 0U);                       // 120 may still get a frame
+  mapper.count_unanswered_triggers_as_lost();
+  EXPECT_EQ(mapper.lost_frames(), 1U);
+  EXPECT_EQ(mapper.untied_frames(), 0U);
+  mapper.count_unanswered_triggers_as_lost();  // counted once
+  EXPECT_EQ(mapper.lost_frames(), 1U);
+}
+
 TEST(FrameSampleMapper, AFrameBeforeAnyTriggerIsNotTiedToASample) {
   FrameSampleMapper mapper;
   EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 5 * kMs), std::nullopt);

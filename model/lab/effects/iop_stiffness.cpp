@@ -7,7 +7,7 @@
 namespace rig::model::effects {
 
 const std::vector<std::string>& IopStiffness::form_names() {
-  static const std::vector<std::string> kNames = {"exponential", "exponential-quadratic", "linear", "saturating"};
+  static const std::vector<std::string> kNames = {"exponential", "exponential-quadratic", "linear", "saturating", "shorter toe"};
   return kNames;
 }
 
@@ -16,6 +16,7 @@ std::vector<ParamSpec> IopStiffness::shared_params() const {
     case kExponential: return {{"k", "1/mmHg", 0.0, -0.5, 0.5}};
     case kLinear: return {{"k_lin", "1/mmHg", 0.0, -0.2, 2.0}};
     case kSaturating: return {{"A", "1", 0.0, -0.9, 5.0}, {"P0", "mmHg", 3.0, 0.3, 50.0}};
+    case kShorterToe: return {{"s", "mm/mmHg", 0.0, -0.3, 0.3}};
     default: return {{"k1", "1/mmHg", 0.0, -0.5, 0.5}, {"k2", "1/mmHg^2", 0.0, -0.2, 0.2}};
   }
 }
@@ -43,6 +44,7 @@ double IopStiffness::factor(double dp, const double* p) const {
     case kExponential: return std::exp(p[0] * dp);
     case kLinear: return std::max(0.05, 1.0 + p[0] * dp);
     case kSaturating: return std::max(0.05, 1.0 + p[0] * std::tanh(dp / p[1]));
+    case kShorterToe: return 1.0;  // stiffness unchanged: the toe moves (toe_end_mm)
     default: return std::exp(p[0] * dp + p[1] * dp * dp);
   }
 }
@@ -52,6 +54,11 @@ void IopStiffness::adjust_model(const PreparedRun& run, const double* p, Continu
   const double f = factor(run.iop_mmHg - 15.0, p);
   model.a *= f;
   model.b *= f;
+  model.x1 = toe_end_mm(run.iop_mmHg - 15.0, p, model.x1);
+}
+
+double IopStiffness::toe_end_mm(double dp, const double* p, double x1_mm) const {
+  return form_ == kShorterToe ? std::max(0.0, x1_mm - p[0] * dp) : x1_mm;
 }
 
 std::string IopStiffness::evidence(const EvidenceInput& in) const {
@@ -63,6 +70,9 @@ std::string IopStiffness::evidence(const EvidenceInput& in) const {
     case kExponential: law = format("exponential in IOP, %+.1f %% per mmHg: ", 100.0 * p[0]); break;
     case kLinear: law = format("linear in IOP, %+.1f %% of the 15 mmHg stiffness per mmHg: ", 100.0 * p[0]); break;
     case kSaturating: law = format("saturating in IOP, at most %+.0f %%, half-way by about %.1f mmHg: ", 100.0 * p[0], 0.55 * p[1]); break;
+    case kShorterToe:
+      return format("pre-stressed by the pressure: the toe region ends %+.3f mm earlier per mmHg, %+.2f mm at %.0f mmHg against %.0f mmHg "
+                    "(slopes unchanged)", p[0], p[0] * (hi - lo), hi, lo) + honesty(in);
     default: law = format("exponential-quadratic in IOP, %+.1f %% per mmHg, curvature %+.3f /mmHg^2: ", 100.0 * p[0], p[1]); break;
   }
   return law + format("pre-cut stiffness is %+.1f %% at %.0f mmHg and %+.1f %% at %.0f mmHg against 15 mmHg",

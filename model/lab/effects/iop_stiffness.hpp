@@ -5,13 +5,16 @@
 //   exponential-quadratic  a, b *= exp(k1 dP + k2 dP^2)
 //   linear                 a, b *= 1 + k_lin dP
 //   saturating             a, b *= 1 + A tanh(dP / P0)
+//   shorter toe            x1 -= s dP: the pressure pre-stretches the cornea, so the blade
+//                          starts further along its stiffening curve (the same curve, entered
+//                          later), not on a stiffer one
 #include "family_term.hpp"
 
 namespace rig::model::effects {
 
 class IopStiffness final : public FamilyTerm {
  public:
-  enum Form { kExponential = 0, kExponentialQuadratic, kLinear, kSaturating };
+  enum Form { kExponential = 0, kExponentialQuadratic, kLinear, kSaturating, kShorterToe };
   explicit IopStiffness(int form = kExponentialQuadratic) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "iop_stiffness"; }
@@ -22,6 +25,8 @@ class IopStiffness final : public FamilyTerm {
   void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
   std::string evidence(const EvidenceInput& in) const override;
   double factor(double dp_mmHg, const double* p) const;
+  // End of the toe region at dP [mm], from the model's x1 (moves in the "shorter toe" form only).
+  double toe_end_mm(double dp_mmHg, const double* p, double x1_mm) const;
 };
 
 }  // namespace rig::model::effects

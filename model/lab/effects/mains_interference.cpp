@@ -1,6 +1,7 @@
 #include "mains_interference.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "effect_util.hpp"
 
@@ -51,10 +52,10 @@ double MainsInterference::run_hz(const PreparedRun& run, double p0) {
 
 void MainsInterference::design(const SampleView& s, const double* p, double* row) const {
   const int k = std::abs(p[0] - 50.0) <= std::abs(p[0] - 60.0) ? 0 : 1;
-  const std::vector<double>& tracked = s.run->grid_cycles[k];
-  const double t = s.t_s - s.run->data->t_s.front();
+  const double tracked = (s.inputs != nullptr ? *s.inputs : s.run->inputs[s.i]).grid_cycles[k];
+  const double t = s.t_s - s.run->inputs.front().t_s;
   // The grid's tracked phase, moved by the shared correction of the nominal (~0).
-  double cycles = (s.i < tracked.size() ? tracked[s.i] : run_hz(*s.run, p[0]) * t) + (p[0] - (k == 0 ? 50.0 : 60.0)) * t;
+  double cycles = (std::isnan(tracked) ? run_hz(*s.run, p[0]) * t : tracked) + (p[0] - (k == 0 ? 50.0 : 60.0)) * t;
   if (form_ == kChirp) cycles += 0.5 * p[1] * t * t;
   fourier(cycles, form_ == kHarmonics ? kHarmonicCount : 1, row);
   // Picked up from the motor drive: none while the carriage stands (stops, the hold).

@@ -29,12 +29,8 @@ std::vector<std::vector<double>> SpatialRipple::starts() const {
 // ripple there was taken in by the tare, so each column is its value less its value at the
 // start. No free offset: a constant per run is not a ripple (it is drift or tare).
 void SpatialRipple::design(const SampleView& s, const double* p, double* row) const {
-  const auto& x = s.run->data->x_mm;
-  const std::size_t n = std::min<std::size_t>(x.size(), 20);
-  double parked = 0.0;
-  for (std::size_t i = 0; i < n; ++i) parked += x[i] / static_cast<double>(n);
   double at_tare[6];
-  fourier(parked / p[0], harmonics(), at_tare);
+  fourier(s.run->parked_mm / p[0], harmonics(), at_tare);
   fourier(s.x_mm / p[0], harmonics(), row);
   for (int k = 0; k < 2 * harmonics(); ++k) row[k] -= at_tare[k];
 }
