@@ -3,21 +3,11 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
-#include <sstream>
 
+#include "metadata_number.hpp"
 #include "schema_migrations.hpp"
 
 namespace rig::archive {
-namespace {
-
-std::string format_number(double value) {
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
-
-}  // namespace
 
 std::string utc_now_iso8601() {
   const auto now = std::chrono::system_clock::now();
@@ -193,7 +183,7 @@ std::vector<std::pair<std::string, std::string>> Archive::run_meta(std::int64_t 
   for (int i = 0; i < 14; ++i) {
     if (q.is_null(i)) continue;
     const bool numeric = i >= 1 && i <= 5;
-    std::string value = numeric ? format_number(q.real(i)) : q.text(i);
+    std::string value = numeric ? metadata_number_text(q.real(i)) : q.text(i);
     if (!value.empty()) meta.emplace_back(names[i], value);
   }
   meta.emplace_back("run_id", std::to_string(run_id));

@@ -4,15 +4,10 @@
 #include <sstream>
 #include <string_view>
 
+#include "metadata_number.hpp"
+
 namespace rig::lab_archive {
 namespace {
-
-std::string format_number(double value) {
-  std::ostringstream out;
-  out.precision(10);
-  out << value;
-  return out.str();
-}
 
 std::optional<double> maybe_real(const PgResult& rows, int row, int column) {
   if (rows.is_null(row, column)) return std::nullopt;
@@ -29,7 +24,7 @@ std::vector<std::pair<std::string, std::string>> column_meta(const PgResult& q) 
   for (int i = 0; i < 14; ++i) {
     if (q.is_null(0, i)) continue;
     const bool numeric = i >= 1 && i <= 5;
-    std::string value = numeric ? format_number(q.real(0, i)) : q.text(0, i);
+    std::string value = numeric ? archive::metadata_number_text(q.real(0, i)) : q.text(0, i);
     if (!value.empty()) meta.emplace_back(names[i], value);
   }
   meta.emplace_back("run_id", q.text(0, 15));

@@ -11,6 +11,11 @@
 namespace rig::model {
 namespace {
 
+// A model of an eye: depths beyond 100 mm (an eye is 24 mm across) or a table of more than
+// 1,000 IOP rows are typing errors, and lint would scan them for minutes.
+constexpr double kMaxDepth_mm = 100.0;
+constexpr std::size_t kMaxTableRows = 1000;
+
 class Reader {
  public:
   explicit Reader(std::string path) : path_(std::move(path)) {}
@@ -42,6 +47,7 @@ class Reader {
     for (const auto& item : *node->as_array()) {
       if (!item.is_number()) fail(&item, section + "." + key, "expected an array of numbers");
       out.push_back(*item.value<double>());
+      if (!std::isfinite(out.back())) fail(&item, section + "." + key, "not a finite number");
     }
     return out;
   }
@@ -79,8 +85,14 @@ void read_table(const Reader& r, const toml::table& t, ForceModel& m) {
   if (n == 0 || m.table.x_pi_mm.size() != n || m.table.x_pf_mm.size() != n) {
     r.fail(t.get("iop_mmHg"), "table", "iop_mmHg, x_pi_mm and x_pf_mm need the same, non-zero length");
   }
+  if (n > kMaxTableRows) r.fail(t.get("iop_mmHg"), "table.iop_mmHg", "more than " + std::to_string(kMaxTableRows) + " rows");
   for (std::size_t i = 1; i < n; ++i) {
     if (m.table.iop_mmHg[i] <= m.table.iop_mmHg[i - 1]) r.fail(t.get("iop_mmHg"), "table.iop_mmHg", "must increase");
+  }
+  for (const auto& [key, depths] : {std::pair{"x_pi_mm", &m.table.x_pi_mm}, std::pair{"x_pf_mm", &m.table.x_pf_mm}}) {
+    for (const double x : *depths) {
+      if (x < 0.0 || x > kMaxDepth_mm) r.fail(t.get(key), std::string("table.") + key, "a depth outside 0..100 mm");
+    }
   }
 }
 
@@ -100,6 +112,9 @@ void read_parameters(const Reader& r, const toml::table& t, ContinuousParams& p)
   p.w_release = r.number(t, s, "w_release", p.w_release);
   p.x_pi_shift = r.number(t, s, "x_pi_shift", 0.0);
   p.x_pf_shift = r.number(t, s, "x_pf_shift", 0.0);
+  for (const auto& [key, shift] : {std::pair{"x_pi_shift", p.x_pi_shift}, std::pair{"x_pf_shift", p.x_pf_shift}}) {
+    if (std::abs(shift) > kMaxDepth_mm) r.fail(t.get(key), std::string("parameters.") + key, "a shift beyond +-100 mm");
+  }
   if (p.w_drop <= 0.0) r.fail(t.get("w_drop"), "parameters.w_drop", "must be > 0");
 }
 

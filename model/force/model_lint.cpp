@@ -40,7 +40,8 @@ void lint_negative(const ForceModel& m, double iop, std::vector<LintFinding>& ou
   constexpr double kTolerance_N = 1e-4;
   const double end = m.final_depth_mm(iop);
   double worst = 0.0, worst_x = 0.0, first_x = -1.0, last_x = 0.0;
-  for (double x = 0.01; x < end; x += 0.01) {
+  const double step_mm = std::max(0.01, end / 20000.0);  // at most 20,000 points per IOP row
+  for (double x = step_mm; x < end; x += step_mm) {
     const double f = m.baseline(x, iop);
     if (f >= -kTolerance_N) continue;
     if (first_x < 0.0) first_x = x;

@@ -131,9 +131,14 @@ std::vector<Kill> kill_runs(const ScratchDir& dir, unsigned seed, std::string& a
                    {"motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6", "motion.retract_velocity_mm_s=6"});
   std::mt19937 rng(seed);
   std::vector<Kill> kills;
-  for (int i = 0; i < 25; ++i) {
+  // 25 kills of runs that had not faulted by accident first; a run that faulted before its
+  // kill (the DAQ link starved on this shared VM) is still checked, and one more is run in
+  // its place, at most 10 times (each is counted and printed).
+  int clean_kills = 0;
+  for (int i = 0; clean_kills < 25 && i < 35; ++i) {
     if (i > 0) rig.start_rigd();
     kills.push_back(run_and_kill(rig, rng, i));
+    if (kills.back().fault.empty()) ++clean_kills;
   }
   rig.start_rigd();  // marks the last run interrupted
   archive_path = rig.archive_path();
@@ -169,7 +174,10 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
       worst_ms = std::max(worst_ms, lost);
     }
   }
-  EXPECT_EQ(kills_a.size() + kills_b.size(), 50U);
+  const auto clean = [](const std::vector<Kill>& kills) {
+    return std::count_if(kills.begin(), kills.end(), [](const Kill& k) { return k.fault.empty(); });
+  };
+  EXPECT_EQ(clean(kills_a) + clean(kills_b), 50) << "too many runs faulted by accident before their kill";
   EXPECT_GE(runs_with_samples, 35) << "too few kills landed during cutting to mean anything";
   std::printf("DURABILITY | 50 kills on 2 rigs, %d runs with samples | worst loss %.1f ms of samples (limit 100 ms)"
               " | %d accidental faults before a kill (retried)\n",

@@ -13,6 +13,7 @@
 #include "comparison.hpp"
 #include "diagnosis.hpp"
 #include "effects/iop_stiffness.hpp"
+#include "effects/shaft_friction.hpp"
 #include "grid_line.hpp"
 #include "lab_scenarios.hpp"
 #include "model_fit.hpp"
@@ -189,6 +190,40 @@ TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
       EXPECT_EQ(p.hold_s[i], 0.0) << "at " << run.x_mm[i] << " mm";
     }
   }
+}
+
+TEST(ShaftFriction, SlidingFormsVanishInEveryStopAndTheHeldFormKeepsItsLoadUntilTheRetraction) {
+  sim::GeneratorOptions g;
+  sim::RunSpec spec;
+  sim::apply_standard_protocol(spec);  // stops at 2 and 5.5 mm (the second past the puncture), hold at depth
+  spec.eye_id = "friction";
+  const RunData run = sim::generate_run(g, spec);
+  const PreparedRun p = prepare_run(run);
+  ASSERT_TRUE(p.seg.punctured);
+  const effects::ShaftFriction coulomb(effects::ShaftFriction::kCoulomb), held(effects::ShaftFriction::kHeldAtRest);
+  const double mu = 0.01;  // [N/mm]
+  int stopped = 0, holding = 0, retracting = 0, moving_in = 0;
+  for (std::size_t i = 0; i < run.size(); ++i) {
+    const SampleView s{&p, i, run.x_mm[i], run.t_s[i], run.force_N[i], p.velocity_mm_s[i], p.hold_s[i], 1.5, p.seg.phase[i]};
+    const bool at_rest = s.phase == Phase::kHold || (s.hold_s > 0.0 && s.phase != Phase::kRetraction);
+    if (s.phase == Phase::kRetraction) {
+      ++retracting;
+      EXPECT_DOUBLE_EQ(coulomb.add(s, &mu, 0.0), -0.015);
+      EXPECT_DOUBLE_EQ(held.add(s, &mu, 0.0), -0.015);
+    } else if (at_rest && i != p.seg.insertion_end) {
+      (s.phase == Phase::kHold ? holding : stopped) += 1;
+      EXPECT_EQ(coulomb.add(s, &mu, 0.0), 0.0) << "at " << s.x_mm << " mm, " << s.hold_s << " s into a stop";
+      EXPECT_DOUBLE_EQ(held.add(s, &mu, 0.0), 0.015);
+    } else if (s.phase != Phase::kApproach && i != p.seg.insertion_end) {
+      ++moving_in;
+      EXPECT_DOUBLE_EQ(coulomb.add(s, &mu, 0.0), 0.015);
+      EXPECT_DOUBLE_EQ(held.add(s, &mu, 0.0), 0.015);
+    }
+  }
+  EXPECT_GT(stopped, 2500);  // samples at 1 kHz in the two stops (1.5 s and 2 s)
+  EXPECT_GT(moving_in, 1000);
+  EXPECT_GT(holding, 500);
+  EXPECT_GT(retracting, 500);
 }
 
 TEST(Diagnose, WithTwoAcceptedEffectsChoosesEachOnesFormOverABaselineOfTheOther) {

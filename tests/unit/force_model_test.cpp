@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 
 #include "force_model.hpp"
@@ -80,6 +81,39 @@ TEST(ModelFile, ADeviceADirectoryOrAMissingFileIsRefusedBeforeReadingNamingThePa
       EXPECT_NE(std::string(e.what()).find(path + ": " + why), std::string::npos) << e.what();
     }
   }
+}
+
+// Found while fuzzing (CI, fuzz.model_file): a final depth of 1e9 mm kept lint scanning in
+// 0.01 mm steps past the timeout; an infinite depth was read as a number.
+TEST(ModelFile, ADepthNoEyeHasOrANonFiniteTableValueIsRefusedNamingTheKey) {
+  testing::ScratchDir dir("modelfile-depth");
+  const std::string table = "[model]\nname = \"x\"\n[table]\niop_mmHg = [15.0, 18.0]\nx_pi_mm = [3.5, 3.8]\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {table + "x_pf_mm = [9.0, 1e9]\n", "key 'table.x_pf_mm': a depth outside 0..100 mm"},
+      {table + "x_pf_mm = [9.0, inf]\n", "key 'table.x_pf_mm': not a finite number"},
+      {table + "x_pf_mm = [9.0, -1.0]\n", "key 'table.x_pf_mm': a depth outside 0..100 mm"},
+      {table + "x_pf_mm = [9.0, 9.5]\n[parameters]\nx_pf_shift = -500.0\n", "key 'parameters.x_pf_shift': a shift beyond +-100 mm"}};
+  for (const auto& [text, why] : cases) {
+    std::ofstream(dir.file("m.toml"), std::ios::trunc) << text;
+    try {
+      ForceModel::load(dir.file("m.toml"));
+      ADD_FAILURE() << text << " was loaded";
+    } catch (const ModelFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(dir.file("m.toml") + ":"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(ModelLint, ANegativeForceIsScannedToTheEndOfAModelOneHundredMillimetresDeep) {
+  ForceModel m = ForceModel::load(testing::source("model/params/paper-printed.toml"));
+  m.table.x_pf_mm.assign(m.table.x_pf_mm.size(), 100.0);  // the printed unloading piece runs on below zero
+  double deepest_mm = 0.0;
+  for (const auto& f : lint_model(m)) {
+    double from_mm = 0.0, to_mm = 0.0;
+    if (std::sscanf(f.what.c_str(), "negative force from x = %lf to %lf mm", &from_mm, &to_mm) == 2) deepest_mm = std::max(deepest_mm, to_mm);
+  }
+  EXPECT_GT(deepest_mm, 99.9);
 }
 
 TEST(ModelFile, SavingAndLoadingKeepsParametersAndEffects) {

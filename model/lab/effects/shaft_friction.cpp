@@ -9,7 +9,8 @@ namespace rig::model::effects {
 ShaftFriction::ShaftFriction(int form) : FamilyTerm(form_names(), form) {}
 
 const std::vector<std::string>& ShaftFriction::form_names() {
-  static const std::vector<std::string> kNames = {"coulomb", "saturating", "viscous", "coulomb + viscous", "asymmetric", "static breakaway"};
+  static const std::vector<std::string> kNames = {"coulomb", "saturating", "viscous", "coulomb + viscous", "asymmetric", "static breakaway",
+                                                  "held at rest"};
   return kNames;
 }
 
@@ -18,6 +19,7 @@ std::vector<ParamSpec> ShaftFriction::shared_params() const {
   const ParamSpec eta{"eta", "N s/mm^2", 0.0, -0.05, 0.05};
   switch (form_) {
     case kCoulomb: return {mu};
+    case kHeldAtRest: return {{"mu_held", "N/mm", 0.0, -0.1, 0.1}};  // its own name: a saved model reloads in this form
     case kViscous: return {eta};
     case kCoulombViscous: return {mu, eta};
     case kAsymmetric: return {{"mu_in", "N/mm", 0.0, -0.1, 0.1}, {"mu_out", "N/mm", 0.0, -0.1, 0.1}};
@@ -51,11 +53,17 @@ double effective_length(double length_mm, double kappa) {
 }
 
 // Friction opposes the motion: the phase gives its direction (a velocity estimate smears the
-// sign flip at the turnaround, which takes about a millisecond).
+// sign flip at the turnaround, which takes about a millisecond). At rest - the hold at depth,
+// a stop on the way in (hold_s counts its time), the turnaround - sliding friction is gone.
 double motion_direction(const SampleView& s) {
-  if (s.i == s.run->seg.insertion_end) return 0.0;  // the turnaround itself: at rest
-  return s.phase == Phase::kRetraction ? -1.0 : (s.phase == Phase::kHold ? 0.0 : 1.0);
+  if (s.i == s.run->seg.insertion_end) return 0.0;
+  if (s.phase == Phase::kRetraction) return -1.0;
+  return s.phase == Phase::kHold || s.hold_s > 0.0 ? 0.0 : 1.0;
 }
+
+// Friction that stays loaded at rest (presliding, as in Dahl's and LuGre's models): a stop
+// keeps the force of the last slide; only the retraction reverses it.
+double held_direction(const SampleView& s) { return s.phase == Phase::kRetraction ? -1.0 : 1.0; }
 
 }  // namespace
 
@@ -69,6 +77,7 @@ double ShaftFriction::add(const SampleView& s, const double* p, double /*force_N
     case kCoulombViscous: return (p[0] * dir + p[1] * s.velocity_mm_s) * length;
     case kAsymmetric: return length * (dir > 0.0 ? p[0] : (dir < 0.0 ? -p[1] : 0.0));
     case kBreakaway: return length * dir * (p[0] + p[1] * std::exp(-std::abs(s.velocity_mm_s) / p[2]));
+    case kHeldAtRest: return p[0] * length * held_direction(s);
     default: return p[0] * effective_length(length, p[1]) * dir;
   }
 }
@@ -87,6 +96,10 @@ std::string ShaftFriction::evidence(const EvidenceInput& in) const {
     case kCoulombViscous:
       text = format("viscous + coulomb friction: %.4f N/mm inserted plus %.4f N/mm per mm/s (%.3f N at %.1f mm", p[0], p[1],
                     (p[0] + p[1] * speed) * deepest, deepest) + format(" and %.1f mm/s)", speed);
+      break;
+    case kHeldAtRest:
+      text = format("coulomb friction held at rest: %.4f N per mm inserted, kept through stops and the hold, reversing on retraction (%.3f N at %.1f mm)",
+                    p[0], p[0] * deepest, deepest);
       break;
     case kAsymmetric: text = format("direction-asymmetric friction: %.4f N/mm inserting, %.4f N/mm retracting (%.3f N at %.1f mm inserting)", p[0], p[1], p[0] * deepest, deepest); break;
     case kBreakaway:

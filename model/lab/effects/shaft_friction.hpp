@@ -1,21 +1,22 @@
 #pragma once
 // shaft_friction: once punctured, the blade's shaft rubs along the incision: a force that
-// grows with the inserted length L past the puncture and opposes motion (+1 inserting, 0
-// held, -1 retracting, from the phase). The family covers the friction laws of a blade in
-// tissue:
+// grows with the inserted length L past the puncture and opposes motion (dir: +1 inserting,
+// 0 at rest - the hold and stops on the way in - and -1 retracting, from the phase). The
+// family covers the friction laws of a blade in tissue:
 //   coulomb             mu L dir                      (constant per inserted length)
 //   saturating          mu (1 - exp(-kappa L))/kappa dir   (the shaft's own length)
 //   viscous             eta L v                       (v the signed velocity [mm/s])
 //   coulomb + viscous   (mu dir + eta v) L
 //   asymmetric          L (mu_in inserting, -mu_out retracting)
 //   static breakaway    L dir (mu + mu_s exp(-|v|/v_s))   (Stribeck: more at rest/reversal)
+//   held at rest        mu_held L (+1 until the retraction, -1 in it)   (presliding: a stop keeps the load)
 #include "family_term.hpp"
 
 namespace rig::model::effects {
 
 class ShaftFriction final : public FamilyTerm {
  public:
-  enum Form { kCoulomb = 0, kSaturating, kViscous, kCoulombViscous, kAsymmetric, kBreakaway };
+  enum Form { kCoulomb = 0, kSaturating, kViscous, kCoulombViscous, kAsymmetric, kBreakaway, kHeldAtRest };
   explicit ShaftFriction(int form = kSaturating);
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "shaft_friction"; }
