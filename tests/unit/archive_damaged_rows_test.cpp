@@ -14,11 +14,13 @@
 namespace rig::archive {
 namespace {
 
-// An imported run of three samples with one channel of three values.
-std::int64_t imported_run(Archive& archive) {
+// A new archive at `path` holding one imported run of three samples with one channel of
+// three values; returns the run's id.
+std::int64_t archive_with_one_run(const std::string& path) {
   std::istringstream csv(
       "# eye_id: "
       "N1\nt_s,x_mm,force_N,iop_meas_mmHg\n0,0,0,15\n0.001,0.1,0.2,15\n0.002,0.2,0.4,15\n");
+  Archive archive(path);
   return archive.import_run(model::read_run_csv(csv, "n1.csv"));
 }
 
@@ -47,11 +49,7 @@ std::string load_error(const std::string& path, std::int64_t run_id) {
 TEST(ArchiveDamagedRows, AChannelShorterThanTheSamplesIsRefusedNamingTheRunAndTheChannel) {
   testing::ScratchDir dir("archive-short-channel");
   const std::string path = dir.file("a.sqlite");
-  std::int64_t id = 0;
-  {
-    Archive archive(path);
-    id = imported_run(archive);
-  }
+  const std::int64_t id = archive_with_one_run(path);
   // One double (8 bytes) for three samples: exporting it read past the channel's end.
   edit(path, "UPDATE channels SET data = zeroblob(8) WHERE run_id = " + std::to_string(id));
   EXPECT_EQ(load_error(path, id), "archive " + path + ": run " + std::to_string(id) +
@@ -61,11 +59,7 @@ TEST(ArchiveDamagedRows, AChannelShorterThanTheSamplesIsRefusedNamingTheRunAndTh
 TEST(ArchiveDamagedRows, AChannelOfPartDoublesIsRefusedNamingItsSize) {
   testing::ScratchDir dir("archive-odd-channel");
   const std::string path = dir.file("a.sqlite");
-  std::int64_t id = 0;
-  {
-    Archive archive(path);
-    id = imported_run(archive);
-  }
+  const std::int64_t id = archive_with_one_run(path);
   edit(path, "UPDATE channels SET data = zeroblob(27) WHERE run_id = " + std::to_string(id));
   EXPECT_EQ(load_error(path, id),
             "archive " + path + ": run " + std::to_string(id) +
@@ -75,11 +69,7 @@ TEST(ArchiveDamagedRows, AChannelOfPartDoublesIsRefusedNamingItsSize) {
 TEST(ArchiveDamagedRows, AnEditedChannelOfTheRightLengthStillLoads) {
   testing::ScratchDir dir("archive-channel-ok");
   const std::string path = dir.file("a.sqlite");
-  std::int64_t id = 0;
-  {
-    Archive archive(path);
-    id = imported_run(archive);
-  }
+  const std::int64_t id = archive_with_one_run(path);
   // A longer name moves the blob within its row: its doubles are copied out, not read in place.
   edit(path, "UPDATE channels SET name = 'iop_meas_mmHg_' WHERE run_id = " + std::to_string(id));
   Archive archive(path, true);
