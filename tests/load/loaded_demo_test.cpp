@@ -44,6 +44,7 @@ std::string read_file(const std::string& path) {
 
 struct Cut {
   bool completed = false;
+  int retried = 0;  // timing faults the demo met and cut again after (its `accidental_faults`)
   std::string why;  // the demo's own words when it did not complete
   std::string loop;  // loop figures of a completed cut: jitter p99, overruns, DAQ misses
 };
@@ -73,14 +74,23 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
     try {
       const auto j = nlohmann::json::parse(out.substr(summary, out.find('\n', summary) - summary));
       cut.completed = j["outcome"] == "completed";
+      cut.retried = j.value("accidental_faults", -1);
       cut.loop = "jitter p99 " + std::to_string(j["loop_jitter_p99_us"].get<double>()) + " us, overruns " +
                  std::to_string(j["loop_overruns"].get<long>()) + ", DAQ misses " + std::to_string(j["daq_misses"].get<long>());
     } catch (const std::exception& e) {
       cut.why = std::string("unreadable summary: ") + e.what();
     }
   }
-  const auto failed = out.find("[demo] failed: ");
-  cut.why = failed != std::string::npos ? out.substr(failed, out.find('\n', failed) - failed) : out.substr(out.size() > 400 ? out.size() - 400 : 0);
+  if (cut.completed && cut.retried != 0) {  // completed, but only after a timing fault: still an accidental fault
+    // The demo names the fault on the line before "a timing fault of the simulated rig".
+    const auto marker = out.find("\n[demo] a timing fault");
+    const auto start = marker == std::string::npos ? std::string::npos : out.rfind("[demo] ", marker);
+    cut.why = "completed after " + std::to_string(cut.retried) + " accidental fault(s): " +
+              (start != std::string::npos ? out.substr(start, marker - start) : std::string("(no fault line)"));
+  } else if (!cut.completed && cut.why.empty()) {
+    const auto failed = out.find("[demo] failed: ");
+    cut.why = failed != std::string::npos ? out.substr(failed, out.find('\n', failed) - failed) : out.substr(out.size() > 400 ? out.size() - 400 : 0);
+  }
   return cut;
 }
 
@@ -98,10 +108,11 @@ TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWitho
     b.join();
     for (const Cut* cut : {&with_browser, &beside}) {
       if (cut->completed) ++completed;
-      else faults.push_back("round " + std::to_string(round) + ": " + cut->why);
+      // A cut the demo had to make again after a timing fault counts: the fault happened.
+      if (!cut->completed || cut->retried != 0) faults.push_back("round " + std::to_string(round) + ": " + cut->why);
     }
-    std::printf("LOAD-ROUND | %d | browser-side cut: %s | other cut: %s\n", round,
-                (with_browser.completed ? with_browser.loop : with_browser.why).c_str(), (beside.completed ? beside.loop : beside.why).c_str());
+    const auto words = [](const Cut& c) { return c.completed && c.retried == 0 ? c.loop : c.why; };
+    std::printf("LOAD-ROUND | %d | browser-side cut: %s | other cut: %s\n", round, words(with_browser).c_str(), words(beside).c_str());
     std::fflush(stdout);
   }
   std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n", 2 * kRounds, completed, faults.size());
