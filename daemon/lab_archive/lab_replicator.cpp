@@ -56,7 +56,7 @@ void LabReplicator::wait(int milliseconds) {
   wake_.wait_for(lock, std::chrono::milliseconds(milliseconds), [this] { return stopping_; });
 }
 
-void LabReplicator::pass(std::unique_ptr<PgConnection>& db) {
+std::int64_t LabReplicator::pass(std::unique_ptr<PgConnection>& db) {
   if (!shipper_) shipper_ = std::make_unique<RunShipper>(sqlite_path_, settings_.rig_id, software_version_);
   if (!db) {
     db = std::make_unique<PgConnection>(connection_params(settings_));
@@ -72,6 +72,7 @@ void LabReplicator::pass(std::unique_ptr<PgConnection>& db) {
   status_.backlog = backlog;
   status_.samples_shipped += shipped;
   if (shipped > 0) status_.last_shipped_at = archive::utc_now_iso8601();
+  return shipped;
 }
 
 void LabReplicator::record_failure(const std::string& error, bool was_connected) {
@@ -97,8 +98,9 @@ void LabReplicator::run() {
       if (stopping_) return;
     }
     std::int64_t backlog_samples = 0;
+    bool budget_full = false;  // the pass shipped all it may: more is likely waiting
     try {
-      pass(db);
+      budget_full = pass(db) >= settings_.batch_samples;
       retry_ms = 250;
       backlog_samples = status().backlog.samples;
     } catch (const std::exception& e) {
@@ -109,7 +111,7 @@ void LabReplicator::run() {
     if (backlog_samples < 0) {
       wait(retry_ms);
       retry_ms = std::min(retry_ms * 2, settings_.retry_max_ms);
-    } else if (backlog_samples == 0 || backlog_samples < settings_.batch_samples) {
+    } else if (!budget_full && backlog_samples < settings_.batch_samples) {
       wait(settings_.interval_ms);
     }
   }

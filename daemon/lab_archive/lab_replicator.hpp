@@ -42,7 +42,8 @@ class LabReplicator {
 
  private:
   void run();
-  void pass(std::unique_ptr<PgConnection>& db);
+  // One shipping pass (connecting first if needed); returns the samples shipped.
+  std::int64_t pass(std::unique_ptr<PgConnection>& db);
   void wait(int milliseconds);
   void record_failure(const std::string& error, bool was_connected);
 

@@ -78,16 +78,36 @@ PgResult PgConnection::query_raw(const std::string& sql, const std::vector<const
 }
 
 void PgConnection::copy_in(const std::string& copy_sql, const std::string& payload, const std::string& what) {
+  copy_begin(copy_sql, what);
+  copy_put(payload, what);
+  copy_end(what);
+}
+
+void PgConnection::copy_begin(const std::string& copy_sql, const std::string& what) {
   PGresult* start = PQexec(conn_.get(), copy_sql.c_str());
   if (start == nullptr || PQresultStatus(start) != PGRES_COPY_IN) fail(what, start);
   PQclear(start);
-  if (!payload.empty() && PQputCopyData(conn_.get(), payload.data(), static_cast<int>(payload.size())) != 1) fail(what);
+}
+
+void PgConnection::copy_put(std::string_view piece, const std::string& what) {
+  if (!piece.empty() && PQputCopyData(conn_.get(), piece.data(), static_cast<int>(piece.size())) != 1) fail(what);
+}
+
+void PgConnection::copy_end(const std::string& what) {
   if (PQputCopyEnd(conn_.get(), nullptr) != 1) fail(what);
   PGresult* end = PQgetResult(conn_.get());
   const bool copied = end != nullptr && PQresultStatus(end) == PGRES_COMMAND_OK;
-  if (!copied) fail(what, end);
+  if (!copied) {
+    while (PGresult* extra = PQgetResult(conn_.get())) PQclear(extra);
+    fail(what, end);
+  }
   PQclear(end);
   while (PGresult* extra = PQgetResult(conn_.get())) PQclear(extra);
+}
+
+void PgConnection::copy_abandon(const std::string& reason) noexcept {
+  if (!ok() || PQputCopyEnd(conn_.get(), reason.c_str()) != 1) return;  // a broken connection is dropped by its owner
+  while (PGresult* result = PQgetResult(conn_.get())) PQclear(result);
 }
 
 PgTransaction::~PgTransaction() {

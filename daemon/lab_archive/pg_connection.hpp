@@ -7,6 +7,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -52,6 +53,12 @@ class PgConnection {
   PgResult query_raw(const std::string& sql, const std::vector<const char*>& params, const std::string& what);
   // COPY ... FROM STDIN with the given text-format payload (tab-separated, \N = NULL).
   void copy_in(const std::string& copy_sql, const std::string& payload, const std::string& what);
+  // The same in pieces (PgCopyIn wraps these): start, send any number of pieces, end. A COPY
+  // abandoned (copy_abandon) fails on the server, and so does its transaction.
+  void copy_begin(const std::string& copy_sql, const std::string& what);
+  void copy_put(std::string_view piece, const std::string& what);
+  void copy_end(const std::string& what);
+  void copy_abandon(const std::string& reason) noexcept;
   std::string server_version() const;
 
  private:

@@ -3,9 +3,12 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <optional>
 
+#include "binary_copy_rows.hpp"
 #include "copy_buffer.hpp"
 #include "lab_schema.hpp"
+#include "pg_copy_in.hpp"
 #include "run_uuid.hpp"
 
 namespace rig::lab_archive {
@@ -25,8 +28,18 @@ VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13,$14,$15,$16,$17,$18,$19,$20,$
 ON CONFLICT (run_uuid) DO UPDATE SET started_at = EXCLUDED.started_at, ended_at = EXCLUDED.ended_at,
   outcome = EXCLUDED.outcome, reason = EXCLUDED.reason, meta = EXCLUDED.meta, eye_lot = EXCLUDED.eye_lot,
   replicated_at = now()
-RETURNING last_idx, events, frames, xmax = 0
+RETURNING last_idx, events, frames, xmax = 0,
+  (extract(epoch FROM created_at) * 1000000)::bigint - 946684800000000
 )sql";
+
+// The samples table's columns, in the order copy_samples sends them (binary COPY).
+constexpr const char* kCopySamples =
+    "COPY samples (run_uuid, run_created_at, idx, t_s, position_mm, force_n, iop_mmhg, velocity_mm_s, motor_v, pump,"
+    " state, phase, io_ok) FROM STDIN WITH (FORMAT binary)";
+constexpr std::int16_t kSampleColumns = 13;
+// A COPY goes out in pieces of about this size [bytes]: the server stores one piece while
+// the next is read, and a batch never sits in memory whole (about 150 bytes per sample).
+constexpr std::size_t kCopyPieceBytes = 1 << 20;
 
 }  // namespace
 
@@ -97,7 +110,7 @@ std::int64_t RunShipper::ship_run(PgConnection& db, const LocalRun& run, std::in
   mark = upsert_run(db, run);  // locks the run's row: the watermark read is the one to extend
   if (mark.new_on_server && run.source != "rig") copy_channels(db, run);
   std::int64_t last_idx = mark.last_idx;
-  const std::int64_t samples = copy_samples(db, run, mark.last_idx, std::max<std::int64_t>(max_samples, 1), last_idx);
+  const std::int64_t samples = copy_samples(db, run, mark, std::max<std::int64_t>(max_samples, 1), last_idx);
   const std::int64_t events = copy_events(db, run, mark.events);
   const std::int64_t frames = copy_frames(db, run, mark.frames);
   db.query("UPDATE runs SET last_idx = $2, samples = samples + $3, events = events + $4, frames = frames + $5 "
@@ -132,28 +145,38 @@ RunShipper::Watermark RunShipper::upsert_run(PgConnection& db, const LocalRun& r
     raw.push_back(required ? values[i].c_str() : nullable(values[i]));
   }
   PgResult mark = db.query_raw(kUpsertRun, raw, "store the metadata of run " + run.uuid);
-  return Watermark{mark.integer(0, 0), mark.integer(0, 1), mark.integer(0, 2), run.outcome, mark.text(0, 3) == "t"};
+  return Watermark{mark.integer(0, 0), mark.integer(0, 1), mark.integer(0, 2), run.outcome, mark.text(0, 3) == "t",
+                   mark.integer(0, 4)};
 }
 
-std::int64_t RunShipper::copy_samples(PgConnection& db, const LocalRun& run, std::int64_t after_idx, std::int64_t limit,
+std::int64_t RunShipper::copy_samples(PgConnection& db, const LocalRun& run, const Watermark& mark, std::int64_t limit,
                                       std::int64_t& last_idx) {
   archive::Statement q = local_.prepare(
       "SELECT idx, t_s, position_mm, force_N, iop_mmHg, velocity_mm_s, motor_V, pump, state, phase, io_ok"
       " FROM samples WHERE run_id = ? AND idx > ? ORDER BY idx LIMIT ?");
-  q.bind(1, run.id).bind(2, after_idx).bind(3, limit);
-  CopyBuffer rows;
+  q.bind(1, run.id).bind(2, mark.last_idx).bind(3, limit);
+  BinaryCopyRows rows;
+  std::optional<PgCopyIn> copy;  // opened with the first full piece: an empty batch sends nothing
+  const std::string what = "copy the samples of run " + run.uuid;
+  const std::string uuid = BinaryCopyRows::uuid_bytes(run.uuid);
   while (q.step()) {
     last_idx = q.integer(0);
-    rows.field(run.uuid).field(run.created_at).field(last_idx);
+    rows.begin_row(kSampleColumns);
+    rows.field_uuid(uuid).field_timestamptz(mark.created_at_us).field(last_idx);
     for (int column = 1; column <= 3; ++column) rows.field(q.real(column));
     for (int column = 4; column <= 7; ++column) rows.field(q.maybe_real(column));
-    for (int column = 8; column <= 10; ++column) q.is_null(column) ? rows.null() : rows.field(q.integer(column));
-    rows.end_row();
+    for (int column = 8; column <= 10; ++column) q.is_null(column) ? rows.null() : rows.field_int16(q.integer(column));
+    if (rows.pending_bytes() < kCopyPieceBytes) continue;
+    if (!copy) copy.emplace(db, kCopySamples, what);
+    copy->put(rows.take());
   }
   if (rows.rows() == 0) return 0;
-  // Straight into the partition: the locked watermark says none of these is there yet, and
-  // the primary key would refuse (and roll back) a duplicate if it ever were.
-  db.copy_in("COPY samples FROM STDIN", rows.text(), "copy the samples of run " + run.uuid);
+  // The locked watermark says none of these is on the server yet; the primary key would
+  // refuse (and roll back) a duplicate if it ever were.
+  rows.finish();
+  if (!copy) copy.emplace(db, kCopySamples, what);
+  copy->put(rows.take());
+  copy->finish();
   return rows.rows();
 }
 

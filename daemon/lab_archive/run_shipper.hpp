@@ -6,7 +6,8 @@
 // restart re-reads it and never sends a row twice. Each transaction reads the watermark
 // under the run row's lock (the metadata upsert), so two shippers of one rig cannot
 // interleave; the primary keys (run uuid + sample index) refuse a duplicate besides.
-// Samples, events and frames go by COPY (text format).
+// Samples go by binary COPY, sent in pieces while later rows are still read from SQLite;
+// events, frames and channels by text COPY.
 #include <cstdint>
 #include <map>
 #include <set>
@@ -41,6 +42,7 @@ class RunShipper {
     std::int64_t frames = 0;
     std::string outcome;
     bool new_on_server = false;  // the upsert inserted the run (its channels go along)
+    std::int64_t created_at_us = 0;  // the run's created_at on the server [us since 2000-01-01 UTC]
   };
   struct LocalRun {
     std::int64_t id = 0;
@@ -55,7 +57,8 @@ class RunShipper {
   std::vector<LocalRun> local_runs();
   std::int64_t ship_run(PgConnection& db, const LocalRun& run, std::int64_t max_samples);
   Watermark upsert_run(PgConnection& db, const LocalRun& run);
-  std::int64_t copy_samples(PgConnection& db, const LocalRun& run, std::int64_t after_idx, std::int64_t limit,
+  // Samples after mark.last_idx, at most `limit`; last_idx becomes the last one sent.
+  std::int64_t copy_samples(PgConnection& db, const LocalRun& run, const Watermark& mark, std::int64_t limit,
                             std::int64_t& last_idx);
   std::int64_t copy_events(PgConnection& db, const LocalRun& run, std::int64_t already);
   std::int64_t copy_frames(PgConnection& db, const LocalRun& run, std::int64_t already);

@@ -4,9 +4,11 @@
 // (local commit -> on the server), the server's CPU, the drain rate of a backlog (headroom),
 // and the time of `rig model diagnose` over the same runs from PostgreSQL and from SQLite.
 #include <CLI/CLI.hpp>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <fstream>
 #include <map>
 
 #include "command.hpp"
@@ -45,6 +47,14 @@ rig::lab_archive::LabArchiveSettings settings(const rig::testing::PgTestServer& 
   return s;  // interval, batch and retry as rigd's defaults
 }
 
+// The 1, 5 and 15 minute load averages, as /proc/loadavg gives them.
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  in >> one >> five >> fifteen;
+  return one + " " + five + " " + fifteen;
+}
+
 // Polls the server's watermarks every 20 ms; a batch's lag is from its local commit to the
 // first poll that sees it on the server.
 std::vector<double> measure_lags(const rig::testing::PgTestServer& server, std::vector<std::unique_ptr<StreamingRig>>& rigs,
@@ -70,6 +80,52 @@ std::vector<double> measure_lags(const rig::testing::PgTestServer& server, std::
     }
   }
   return lags;
+}
+
+// CPU seconds (user + system) of this process: the replicators' threads while draining.
+double own_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto seconds = [](const timeval& t) { return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6; };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+// Headroom: a backlog per rig (as after a long cut), then every replicator drains at once.
+void drain_phase(const Options& o, rig::testing::PgTestServer& server, std::vector<std::unique_ptr<StreamingRig>>& rigs) {
+  for (auto& rig : rigs) rig->append_now(o.backlog_samples);
+  rig::lab_archive::PgConnection db(server.conninfo());  // polled: a psql per poll would cost CPU the drain needs
+  auto on_server = [&db] {
+    return db.query("SELECT coalesce(sum(samples), 0) FROM runs", {}, "count the samples on the server").integer(0, 0);
+  };
+  rig::testing::ServerCpuMeter cpu(server.dir() + "/data");
+  const std::int64_t total_before = on_server();
+  const double server_cpu_before = cpu.cpu_seconds();
+  const double client_cpu_before = own_cpu_seconds();
+  const auto drain_start = Clock::now();
+  std::vector<std::unique_ptr<rig::lab_archive::LabReplicator>> replicators;
+  for (std::size_t r = 0; r < rigs.size(); ++r) {
+    replicators.push_back(std::make_unique<rig::lab_archive::LabReplicator>(settings(server, static_cast<int>(r)), rigs[r]->path(), "bench"));
+    replicators.back()->start();
+  }
+  std::int64_t written = 0;
+  for (auto& rig : rigs) written += rig->samples();
+  while (on_server() < written) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const double drain_s = std::chrono::duration<double>(Clock::now() - drain_start).count();
+  const double server_cpu = cpu.cpu_seconds() - server_cpu_before;
+  const double client_cpu = own_cpu_seconds() - client_cpu_before;
+  const auto drained = static_cast<double>(written - total_before);
+  const double drain_rate = drained / drain_s;
+  const double combined_rate = o.rigs * o.rate_hz;
+  std::printf("drain: %d x %lld samples backlog in %.1f s = %.0f samples/s, headroom %.1fx the rigs' combined rate\n", o.rigs,
+              static_cast<long long>(o.backlog_samples), drain_s, drain_rate, drain_rate / combined_rate);
+  // The rigs' replicators share this machine with the server here; on a lab's network they
+  // do not, and the server's own cost per sample bounds what one server takes.
+  const double server_rate = drained / std::max(server_cpu, 1e-3);
+  std::printf("  server CPU while draining %.1f s: %.0f samples per server CPU-second = %.0fx the rigs' rate per core\n", server_cpu,
+              server_rate, server_rate / combined_rate);
+  std::printf("  replicators' CPU while draining %.1f s: %.0f samples per replicator CPU-second; load average %s\n", client_cpu,
+              drained / std::max(client_cpu, 1e-3), load_average().c_str());
+  for (auto& replicator : replicators) replicator->stop();
 }
 
 void streaming_phase(const Options& o, rig::testing::PgTestServer& server, const rig::testing::ScratchDir& dir) {
@@ -98,29 +154,7 @@ void streaming_phase(const Options& o, rig::testing::PgTestServer& server, const
   std::printf("  server CPU %.0f%% of one core (%.1f s in %.1f s; machine has %ld cores)\n", 100.0 * cpu_used / wall, cpu_used, wall,
               sysconf(_SC_NPROCESSORS_ONLN));
   for (auto& replicator : replicators) replicator->stop();
-  // Headroom: a backlog per rig (as after a long cut), then every replicator drains at once.
-  for (auto& rig : rigs) rig->append_now(o.backlog_samples);
-  const std::int64_t total_before = std::stoll(server.query("SELECT coalesce(sum(samples), 0) FROM runs"));
-  const double drain_cpu_before = cpu.cpu_seconds();
-  const auto drain_start = Clock::now();
-  for (int r = 0; r < o.rigs; ++r) {
-    replicators[static_cast<std::size_t>(r)] = std::make_unique<rig::lab_archive::LabReplicator>(settings(server, r), rigs[static_cast<std::size_t>(r)]->path(), "bench");
-    replicators[static_cast<std::size_t>(r)]->start();
-  }
-  std::int64_t written = 0;
-  for (auto& rig : rigs) written += rig->samples();
-  while (std::stoll(server.query("SELECT coalesce(sum(samples), 0) FROM runs")) < written) std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  const double drain_s = std::chrono::duration<double>(Clock::now() - drain_start).count();
-  const double drain_cpu = cpu.cpu_seconds() - drain_cpu_before;
-  const double drain_rate = static_cast<double>(written - total_before) / drain_s;
-  std::printf("drain: %d x %lld samples backlog in %.1f s = %.0f samples/s, headroom %.1fx the rigs' combined rate\n", o.rigs,
-              static_cast<long long>(o.backlog_samples), drain_s, drain_rate, drain_rate / (o.rigs * o.rate_hz));
-  // The rigs' replicators share this machine with the server here; on a lab's network they
-  // do not, and the server's own cost per sample bounds what one server takes.
-  const double server_rate = static_cast<double>(written - total_before) / std::max(drain_cpu, 1e-3);
-  std::printf("  server CPU while draining %.1f s: %.0f samples per server CPU-second = %.0fx the rigs' rate per core\n", drain_cpu,
-              server_rate, server_rate / (o.rigs * o.rate_hz));
-  for (auto& replicator : replicators) replicator->stop();
+  drain_phase(o, server, rigs);
 }
 
 }  // namespace

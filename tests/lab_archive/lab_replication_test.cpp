@@ -7,11 +7,13 @@
 
 #include <chrono>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "lab_replicator.hpp"
 #include "lab_run_reader.hpp"
 #include "lab_schema.hpp"
+#include "pg_copy_in.hpp"
 #include "local_run_writer.hpp"
 #include "pg_test_server.hpp"
 #include "run_csv.hpp"
@@ -212,6 +214,77 @@ TEST_F(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
   writer.finish(id);
   ASSERT_TRUE(drained(replicator, 20)) << replicator.status().last_error;
   expect_exact_copy(server, local, "rig-a", id);
+}
+
+TEST_F(LabReplication, ExtremeValuesArriveBitForBitInTheRunsMonthPartition) {
+  const std::int64_t id = writer.start("E12", "L9");
+  const double extremes[] = {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max(),
+                             std::numeric_limits<double>::lowest(), 0.1 + 0.2, -1.0 / 3.0, 1e-300};
+  local.begin();
+  for (std::uint64_t i = 0; i < 64; ++i) {
+    rt::Sample s;
+    s.run_id = id;
+    s.cycle = 7 + i * 1000003;  // far apart: the index is not a small counter
+    s.t_s = 1e9 + static_cast<double>(i) * 1e-3;
+    s.position_mm = extremes[i % 8];
+    s.force_N = extremes[(i + 3) % 8];
+    s.iop_mmHg = extremes[(i + 5) % 8];
+    s.velocity_mm_s = extremes[(i + 1) % 8];
+    s.motor_volts = extremes[(i + 6) % 8];
+    s.state = static_cast<rt::RunState>(i % 8);
+    s.io_ok = static_cast<std::uint8_t>(i % 2);
+    local.append_sample(s);
+  }
+  local.commit();
+  writer.finish(id);
+  PgConnection db = lab();
+  RunShipper shipper(local.path(), "rig-a", "test");
+  EXPECT_EQ(shipper.ship_pass(db, 100000), 64);
+  expect_exact_copy(server, local, "rig-a", id);
+  EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE s.run_created_at = r.created_at"
+                         " AND s.tableoid::regclass::text = 'samples_' || to_char(r.created_at AT TIME ZONE 'UTC', 'YYYY_MM')"),
+            "64");
+  EXPECT_EQ(server.query("SELECT count(*) FILTER (WHERE force_n = 'Infinity') || ' ' || max(idx) || ' ' || sum(io_ok)"
+                         " || ' ' || max(state) FROM samples"),
+            "8 63000196 32 7");
+}
+
+// The samples of one pass go to the server in pieces (about 1 MiB each): a batch the server
+// refuses after it has taken some pieces leaves nothing behind, and the next pass sends it all.
+TEST_F(LabReplication, ABatchRefusedHalfwayIsSentAgainWholeAndOnlyOnce) {
+  const std::int64_t id = writer.start("E13", "L9");
+  for (int batch = 0; batch < 4; ++batch) writer.append(id, 10000);  // cycles 1000..40999, about 6 MB binary
+  PgConnection db = lab();
+  RunShipper shipper(local.path(), "rig-a", "test");
+  db.exec("ALTER TABLE samples ADD CONSTRAINT refuse_late_samples CHECK (idx < 35000)", "refuse the last pieces");
+  EXPECT_THROW(shipper.ship_pass(db, 100000), LabArchiveError);
+  EXPECT_EQ(server.query("SELECT (SELECT count(*) FROM samples) || ' ' || (SELECT count(*) FROM runs)"), "0 0");
+  EXPECT_EQ(shipper.backlog().samples, 40000);
+  db.exec("ALTER TABLE samples DROP CONSTRAINT refuse_late_samples", "accept every sample");
+  EXPECT_EQ(shipper.ship_pass(db, 100000), 40000);
+  EXPECT_EQ(shipper.ship_pass(db, 100000), 0);
+  writer.finish(id);
+  shipper.ship_pass(db, 100000);
+  expect_exact_copy(server, local, "rig-a", id);
+}
+
+TEST_F(LabReplication, ACopyTheClientAbandonsStoresNothingAndTheConnectionGoesOn) {
+  PgConnection db = lab();
+  {
+    PgTransaction tx(db);
+    PgCopyIn copy(db, "COPY rigs (rig_id) FROM STDIN", "copy rigs");
+    copy.put("rig-x\n");
+  }  // abandoned, then rolled back
+  EXPECT_EQ(db.query("SELECT count(*) FROM rigs", {}, "count rigs").integer(0, 0), 0);
+  {
+    PgTransaction tx(db);
+    PgCopyIn copy(db, "COPY rigs (rig_id) FROM STDIN", "copy rigs");
+    copy.put("rig-y\n");
+    copy.finish();
+    tx.commit();
+  }
+  EXPECT_EQ(server.query("SELECT string_agg(rig_id, ',') FROM rigs"), "rig-y");
 }
 
 TEST(LabArchivePassword, AFileOthersMayReadIsRefusedByName) {
