@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <algorithm>
 #include <cmath>
@@ -363,26 +364,55 @@ TEST_F(FaultMatrixCustomRig, CameraLostMidCut) {
   inject_and_check([&](auto&) { camera.reset(); }, "Fault", "camera lost", [](auto&) {}, 1000.0 + 100.0);
 }
 
+// Lowers rigd's file size limit (RLIMIT_FSIZE, soft) on the running process; returns the old one.
+rlimit limit_file_size(pid_t pid, rlim_t bytes) {
+  rlimit old{};
+  if (::prlimit(pid, RLIMIT_FSIZE, nullptr, &old) != 0) throw std::runtime_error("prlimit: cannot read rigd's limit");
+  rlimit lowered = old;
+  lowered.rlim_cur = bytes;
+  if (::prlimit(pid, RLIMIT_FSIZE, &lowered, nullptr) != 0) throw std::runtime_error("prlimit: cannot lower rigd's limit");
+  return old;
+}
+
 TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
-  // The archive's files may not grow past 600 kB (RLIMIT_FSIZE): the disk is "full" mid-cut.
-  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, std::vector<std::string>{"camera.record_frames=false"},  // timing as measured: where the archive fills
-                                        std::vector<std::string>{"/usr/bin/prlimit", "--fsize=600000", "--"});
-  std::string why;
-  ASSERT_TRUE(rig_->prepare(why)) << why;
-  ASSERT_EQ(rig_->api().post("/api/run", kRun).status, 200);
-  ASSERT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Fault"; }, 60)) << rig_->status().dump();
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Frames off: the frame file's writes would fail as well, and this row is the archive's.
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup({"camera.record_frames=false"}));
+  cut_into_tissue();
   testing::SimPanel panel(rig_->sim_port());
+  const pid_t pid = rig_->rigd().pid();
+  double injected_at = 0.0;
+  rlimit old{};
+  {
+    const testing::ScopedRealtime one_step;  // read the DAQ's time and fill the disk, undisturbed
+    injected_at = panel.sim_time_s();
+    // 1 byte: from now on every write of rigd to a file fails (EFBIG; rigd ignores SIGXFSZ),
+    // as on a full disk: the recorder's next commit fails.
+    old = limit_file_size(pid, 1);
+  }
+  EXPECT_TRUE(rig_->wait_state("Fault", 15)) << rig_->status().dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_FALSE(panel.motor_powered());
+  const double off_ms = (panel.motor_off_time_s() - injected_at) * 1e3;
+  EXPECT_GE(off_ms, -0.1) << "the motor was off before the injection";
+  // The recorder commits every archive.flush_interval_ms (50) and polls every 2 ms; the first
+  // commit after the disk filled fails and the loop stops the motor in its next cycle. A
+  // commit already syncing when the disk filled still succeeds, and the next one comes one
+  // interval after it: two intervals cover that sync on a busy disk.
+  constexpr double kFlushInterval_ms = 50.0;
+  EXPECT_LE(off_ms, 2 * kFlushInterval_ms) << "motor-off latency";
   const std::string reason = rig_->status()["fault"];
   EXPECT_NE(reason.find("archive write failed"), std::string::npos) << reason;
-  // What was committed before the disk filled is there and readable.
+  // What was committed before the disk filled is there, readable and without a gap.
   archive::Archive store(rig_->archive_path(), true);
   const auto runs = store.list_runs();
   ASSERT_FALSE(runs.empty());
-  EXPECT_GT(store.load_run(runs.back().id).size(), 500U) << "samples committed before the disk filled";
+  const auto samples = store.load_run(runs.back().id);
+  EXPECT_GT(samples.size(), 500U) << "samples committed before the disk filled";
+  // A new run is refused: 507 when the archive cannot take its row, 409 if the state is judged first.
   expect_reset_required("Fault", 507, 409);
-  std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | run kept up to the last commit\n", reason.c_str());
+  ::prlimit(pid, RLIMIT_FSIZE, &old, nullptr);  // space again: rigd can log and stop cleanly
+  std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | motor off %.1f ms after injection (sim time)\n", reason.c_str(),
+              off_ms);
 }
 
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
