@@ -209,6 +209,22 @@ TEST_F(FaultMatrix, EndLimitSwitchHit) {
                    [](auto& p) { set(p, panel_reg::kEndLimitForced, 0); }, kSameCycleBound_ms);
 }
 
+TEST_F(FaultMatrix, EstopCommandedMidCut) {
+  cut_into_tissue();
+  // POST /api/estop (as `rig estop`): the API's thread (normal priority) queues the command and
+  // the loop takes it in its next cycle. The bound is the same-cycle one plus the request's
+  // way through the API, which a busy machine may hold up: 20 ms.
+  inject_and_check([this](auto&) { rig_->api().post("/api/estop"); }, "EStop", "e-stop commanded", [](auto&) {},
+                   kSameCycleBound_ms + 17.0);
+}
+
+TEST_F(FaultMatrix, HomeLimitSwitchClosedMidCut) {
+  cut_into_tissue();
+  // The home switch closes 23 mm from it (a broken wire reads as closed): outside homing a fault.
+  inject_and_check([](auto& p) { set(p, panel_reg::kHomeLimitForced, 1); }, "Fault", "home limit switch",
+                   [](auto& p) { set(p, panel_reg::kHomeLimitForced, 0); }, kSameCycleBound_ms);
+}
+
 TEST_F(FaultMatrix, DaqRefusesOutputWrites) {
   cut_into_tissue();
   // Reads are answered, writes to the output block get Modbus exception 4: rigd cannot command
@@ -413,6 +429,69 @@ TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
   ::prlimit(pid, RLIMIT_FSIZE, &old, nullptr);  // space again: rigd can log and stop cleanly
   std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | motor off %.1f ms after injection (sim time)\n", reason.c_str(),
               off_ms);
+}
+
+// Arms a run against a leaking IOP line and waits for its fault; a timing fault of the simulated
+// rig meanwhile (an overrun storm on a busy machine) is printed, reset and the run armed again,
+// three times at most. Returns the sim time before the run was posted (-1 if it never faulted).
+double arm_against_a_leak_until_fault(RigProcesses& rig, testing::SimPanel& panel) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    std::string why;
+    if (!rig.prepare(why)) {
+      ADD_FAILURE() << why;
+      return -1.0;
+    }
+    panel.set_float(panel_reg::kIopLeak, 0.9F);  // a burst line: 4 mmHg at most, the run asks 15
+    const double before_run_s = panel.sim_time_s();
+    if (rig.api().post("/api/run", kRun).status != 200 || !rig.wait_state("Fault", 15)) {
+      ADD_FAILURE() << "the armed run did not fault: " << rig.status().dump();
+      return -1.0;
+    }
+    const std::string fault = rig.status().value("fault", "");
+    if (!cli::is_timing_fault(fault)) return before_run_s;
+    std::printf("ACCIDENTAL | a timing fault while armed, reset and armed again: %s\n", fault.c_str());
+    panel.set_float(panel_reg::kIopLeak, 0.0F);
+    rig.api().post("/api/reset");
+    rig.wait([](const json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
+  }
+  ADD_FAILURE() << "three timing faults in a row";
+  return -1.0;
+}
+
+TEST_F(FaultMatrixCustomRig, IopLeakBeforeTheCutNeverSettles) {
+  // iop.settle_timeout_s = 2 instead of 20: the row waits 2 s for a pressure that cannot come.
+  constexpr double kSettleTimeout_s = 2.0;
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup({"iop.settle_timeout_s=2"}));
+  testing::SimPanel panel(rig_->sim_port());
+  const double before_run_s = arm_against_a_leak_until_fault(*rig_, panel);
+  ASSERT_GE(before_run_s, 0.0);
+  // The motor never ran: Armed keeps it off until the IOP has settled.
+  EXPECT_FALSE(panel.motor_powered());
+  EXPECT_LT(panel.motor_off_time_s(), before_run_s) << "the motor was powered while armed";
+  const std::string reason = rig_->status()["fault"];
+  EXPECT_NE(reason.find("IOP did not settle"), std::string::npos) << reason;
+  panel.set_float(panel_reg::kIopLeak, 0.0F);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The run never started: archived as cancelled, with the fault event dated by rigd's loop
+  // iop.settle_timeout_s after its arming.
+  const json runs = json::parse(rig_->api().get("/api/runs").body);
+  ASSERT_FALSE(runs["runs"].empty());
+  EXPECT_EQ(runs["runs"][0]["outcome"], "cancelled") << runs["runs"][0].dump();
+  EXPECT_EQ(runs["runs"][0]["samples"], 0);
+  archive::Database db(rig_->archive_path(), true);
+  auto times = db.prepare("SELECT (SELECT MIN(t_s) FROM events WHERE run_id = ?1 AND kind = 'command' AND message = 'arm: accepted'),"
+                          " (SELECT t_s FROM events WHERE run_id = ?1 AND kind = 'fault' AND message LIKE 'IOP did not settle%')");
+  times.bind(1, runs["runs"][0]["run_id"].get<std::int64_t>());
+  ASSERT_TRUE(times.step());
+  ASSERT_FALSE(times.is_null(0) || times.is_null(1)) << "no arm or no 'IOP did not settle' event archived";
+  const double fault_after_s = times.real(1) - times.real(0);
+  EXPECT_GE(fault_after_s, kSettleTimeout_s - 0.001) << "faulted before iop.settle_timeout_s";
+  // The loop counts a late cycle as at most 10 periods (control_loop.cpp): on a busy machine
+  // the time-out comes later by the loop's longer stalls (76 ms seen at load average 11).
+  EXPECT_LE(fault_after_s, kSettleTimeout_s + 0.25) << "faulted late after arming [s]";
+  expect_reset_required("Fault");
+  std::printf("FAULT-TABLE | IopLeakBeforeTheCutNeverSettles | Fault: %s | motor never powered; fault %.4f s after arming (loop time)\n",
+              reason.c_str(), fault_after_s);
 }
 
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
