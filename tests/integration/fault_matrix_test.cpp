@@ -220,7 +220,7 @@ TEST_F(FaultMatrix, EstopCommandedMidCut) {
 
 TEST_F(FaultMatrix, HomeLimitSwitchClosedMidCut) {
   cut_into_tissue();
-  // The home switch closes 23 mm from it (a broken wire reads as closed): outside homing a fault.
+  // The home switch reads closed 23 mm from home (a shorted switch or cable): outside homing a fault.
   inject_and_check([](auto& p) { set(p, panel_reg::kHomeLimitForced, 1); }, "Fault", "home limit switch",
                    [](auto& p) { set(p, panel_reg::kHomeLimitForced, 0); }, kSameCycleBound_ms);
 }
@@ -422,8 +422,12 @@ TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
   archive::Archive store(rig_->archive_path(), true);
   const auto runs = store.list_runs();
   ASSERT_FALSE(runs.empty());
-  const auto samples = store.load_run(runs.back().id);
-  EXPECT_GT(samples.size(), 500U) << "samples committed before the disk filled";
+  EXPECT_GT(store.load_run(runs.back().id).size(), 500U) << "samples committed before the disk filled";
+  archive::Database db(rig_->archive_path(), true);
+  auto indices = db.prepare("SELECT MAX(idx) - MIN(idx) + 1, COUNT(*) FROM samples WHERE run_id = ?");
+  indices.bind(1, runs.back().id);
+  ASSERT_TRUE(indices.step());
+  EXPECT_EQ(indices.integer(0), indices.integer(1)) << "a gap in the committed sample indices";
   // A new run is refused: 507 when the archive cannot take its row, 409 if the state is judged first.
   expect_reset_required("Fault", 507, 409);
   ::prlimit(pid, RLIMIT_FSIZE, &old, nullptr);  // space again: rigd can log and stop cleanly
