@@ -123,6 +123,8 @@ void ModbusSimServer::apply_writes() {
   faults.drive_fault = h[reg::sim_panel::kDriveFault] != 0;
   faults.carriage_jammed = h[reg::sim_panel::kCarriageJammed] != 0;
   faults.position_offset_mm = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm));
+  // Clamped to 0..1 by the IOP line: a fraction of the pressure, never more than all of it.
+  faults.iop_leak_fraction = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kIopLeak));
   faults.home_switch_broken = h[reg::sim_panel::kHomeSwitchBroken] != 0;
   faults.writes_rejected = h[reg::sim_panel::kRejectWrites] != 0;
   if (new_nonzero(h[reg::sim_panel::kNewEye], last_new_eye_)) physics_->mount_new_eye(2.0);

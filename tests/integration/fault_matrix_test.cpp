@@ -7,13 +7,17 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 #include <thread>
 
 #include "archive.hpp"
+#include "loop_settings.hpp"
+#include "rig/sim/physics_params.hpp"
 #include "rig_processes.hpp"
 #include "scoped_realtime.hpp"
 #include "sim_panel.hpp"
@@ -51,13 +55,13 @@ class FaultMatrix : public ::testing::Test {
   }
   bool custom_rig_ = false;
 
-  // Starts a cut and waits until the blade is in the tissue.
+  // Starts a cut and waits until the blade is in the tissue. A timing fault of the simulated
+  // rig on a busy machine before that (an overrun storm, a lost link) is printed, reset and the
+  // cut started again by the harness: no row is about the machine's load.
   void cut_into_tissue() {
     std::string why;
-    ASSERT_TRUE(rig_->prepare(why)) << why;
-    ASSERT_EQ(rig_->api().post("/api/run", kRun).status, 200);
-    ASSERT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; }, 30))
-        << rig_->status().dump();
+    const auto in_tissue = [](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; };
+    ASSERT_NE(rig_->cut_until(kRun, in_tissue, why), 0) << why;
     testing::SimPanel panel(rig_->sim_port());
     ASSERT_TRUE(panel.motor_powered());
   }
@@ -205,6 +209,22 @@ TEST_F(FaultMatrix, EndLimitSwitchHit) {
                    [](auto& p) { set(p, panel_reg::kEndLimitForced, 0); }, kSameCycleBound_ms);
 }
 
+TEST_F(FaultMatrix, EstopCommandedMidCut) {
+  cut_into_tissue();
+  // POST /api/estop (as `rig estop`): the API's thread (normal priority) queues the command and
+  // the loop takes it in its next cycle. The bound is the same-cycle one plus the request's
+  // way through the API, which a busy machine may hold up: 20 ms.
+  inject_and_check([this](auto&) { rig_->api().post("/api/estop"); }, "EStop", "e-stop commanded", [](auto&) {},
+                   kSameCycleBound_ms + 17.0);
+}
+
+TEST_F(FaultMatrix, HomeLimitSwitchClosedMidCut) {
+  cut_into_tissue();
+  // The home switch reads closed 23 mm from home (a shorted switch or cable): outside homing a fault.
+  inject_and_check([](auto& p) { set(p, panel_reg::kHomeLimitForced, 1); }, "Fault", "home limit switch",
+                   [](auto& p) { set(p, panel_reg::kHomeLimitForced, 0); }, kSameCycleBound_ms);
+}
+
 TEST_F(FaultMatrix, DaqRefusesOutputWrites) {
   cut_into_tissue();
   // Reads are answered, writes to the output block get Modbus exception 4: rigd cannot command
@@ -239,6 +259,40 @@ TEST_F(FaultMatrix, PositionBeyondTheSoftLimit) {
   // The potentiometer reads 30 mm further (slipped coupling): past motion.soft_max_mm (44 mm).
   inject_and_check([](auto& p) { p.set_float(panel_reg::kPositionOffsetMm, 30.0F); }, "Fault", "soft travel limit",
                    [](auto& p) { p.set_float(panel_reg::kPositionOffsetMm, 0.0F); }, kSameCycleBound_ms);
+}
+
+// When an IOP leak mid-cut must stop the motor [ms after the injection]. The pressure falls from
+// the run's IOP (settled within iop.settle_band_mmHg) towards what the pump can still hold, 0
+// (pump command 0) to pump_max x (1 - leak) (full command), with the line's time constant tau
+// (rig-sim's first-order IOP line), so it leaves the band (IOP - iop.fault_band_mmHg) after
+// tau ln((P0 - P_inf) / (P0 - band - P_inf)); rigd faults iop.fault_after_ms later. Slack: a
+// noisy reading (0.05 mmHg) at the band edge restarts the count for a few cycles (the pressure
+// falls >= 12 mmHg/s there), the injection is dated up to ~1 ms late, one period, the round trip.
+struct LatencyWindow {
+  double earliest_ms = 0, latest_ms = 0;
+};
+LatencyWindow iop_leak_fault_window(double iop_mmHg, double leak_fraction) {
+  const rt::IopSettings iop;        // rigd's defaults: config/rigd.sim.toml and the matrix set no band
+  const sim::IopLineParams line;    // rig-sim's IOP line
+  const double band_edge = iop_mmHg - iop.fault_band_mmHg;
+  const auto leaves_band_ms = [&](double from_mmHg, double towards_mmHg) {
+    return 1e3 * line.time_constant_s * std::log((from_mmHg - towards_mmHg) / (band_edge - towards_mmHg));
+  };
+  constexpr double kSlack_ms = 25.0;
+  const double fastest_ms = leaves_band_ms(iop_mmHg - iop.settle_band_mmHg, 0.0);
+  const double slowest_ms = leaves_band_ms(iop_mmHg + iop.settle_band_mmHg, line.pump_max_mmHg * (1.0 - leak_fraction));
+  return {fastest_ms + iop.fault_after_ms - kSlack_ms, slowest_ms + iop.fault_after_ms + kSlack_ms};
+}
+
+TEST_F(FaultMatrix, IopLineLeaksMidCut) {
+  cut_into_tissue();
+  // A burst line: the pump can hold only 10 % of its pressure (4 mmHg at full command), far
+  // below the run's 15 mmHg - 5. Bounds 268 ms and 442 ms after the injection.
+  constexpr float kLeak = 0.9F;
+  const LatencyWindow window = iop_leak_fault_window(15.0, kLeak);
+  const Outcome out = inject_and_check([](auto& p) { p.set_float(panel_reg::kIopLeak, kLeak); }, "Fault", "IOP out of range",
+                                       [](auto& p) { p.set_float(panel_reg::kIopLeak, 0.0F); }, window.latest_ms);
+  EXPECT_GE(out.motor_off_after_ms, window.earliest_ms) << "iop.fault_after_ms must pass first: a pump step is not a leak";
 }
 
 TEST_F(FaultMatrix, CarriageJammedMidCut) {
@@ -326,26 +380,122 @@ TEST_F(FaultMatrixCustomRig, CameraLostMidCut) {
   inject_and_check([&](auto&) { camera.reset(); }, "Fault", "camera lost", [](auto&) {}, 1000.0 + 100.0);
 }
 
+// Lowers rigd's file size limit (RLIMIT_FSIZE, soft) on the running process; returns the old one.
+rlimit limit_file_size(pid_t pid, rlim_t bytes) {
+  rlimit old{};
+  if (::prlimit(pid, RLIMIT_FSIZE, nullptr, &old) != 0) throw std::runtime_error("prlimit: cannot read rigd's limit");
+  rlimit lowered = old;
+  lowered.rlim_cur = bytes;
+  if (::prlimit(pid, RLIMIT_FSIZE, &lowered, nullptr) != 0) throw std::runtime_error("prlimit: cannot lower rigd's limit");
+  return old;
+}
+
 TEST_F(FaultMatrixCustomRig, DiskFullMidCut) {
-  // The archive's files may not grow past 600 kB (RLIMIT_FSIZE): the disk is "full" mid-cut.
-  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, std::vector<std::string>{"camera.record_frames=false"},  // timing as measured: where the archive fills
-                                        std::vector<std::string>{"/usr/bin/prlimit", "--fsize=600000", "--"});
-  std::string why;
-  ASSERT_TRUE(rig_->prepare(why)) << why;
-  ASSERT_EQ(rig_->api().post("/api/run", kRun).status, 200);
-  ASSERT_TRUE(rig_->wait([](const json& s) { return s["state"] == "Fault"; }, 60)) << rig_->status().dump();
-  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  // Frames off: the frame file's writes would fail as well, and this row is the archive's.
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup({"camera.record_frames=false"}));
+  cut_into_tissue();
   testing::SimPanel panel(rig_->sim_port());
+  const pid_t pid = rig_->rigd().pid();
+  double injected_at = 0.0;
+  rlimit old{};
+  {
+    const testing::ScopedRealtime one_step;  // read the DAQ's time and fill the disk, undisturbed
+    injected_at = panel.sim_time_s();
+    // 1 byte: from now on every write of rigd to a file fails (EFBIG; rigd ignores SIGXFSZ),
+    // as on a full disk: the recorder's next commit fails.
+    old = limit_file_size(pid, 1);
+  }
+  EXPECT_TRUE(rig_->wait_state("Fault", 15)) << rig_->status().dump();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_FALSE(panel.motor_powered());
+  const double off_ms = (panel.motor_off_time_s() - injected_at) * 1e3;
+  EXPECT_GE(off_ms, -0.1) << "the motor was off before the injection";
+  // The recorder commits every archive.flush_interval_ms (50) and polls every 2 ms; the first
+  // commit after the disk filled fails and the loop stops the motor in its next cycle. A
+  // commit already syncing when the disk filled still succeeds, and the next one comes one
+  // interval after it: two intervals cover that sync on a busy disk.
+  constexpr double kFlushInterval_ms = 50.0;
+  EXPECT_LE(off_ms, 2 * kFlushInterval_ms) << "motor-off latency";
   const std::string reason = rig_->status()["fault"];
   EXPECT_NE(reason.find("archive write failed"), std::string::npos) << reason;
-  // What was committed before the disk filled is there and readable.
+  // What was committed before the disk filled is there, readable and without a gap.
   archive::Archive store(rig_->archive_path(), true);
   const auto runs = store.list_runs();
   ASSERT_FALSE(runs.empty());
   EXPECT_GT(store.load_run(runs.back().id).size(), 500U) << "samples committed before the disk filled";
+  archive::Database db(rig_->archive_path(), true);
+  auto indices = db.prepare("SELECT MAX(idx) - MIN(idx) + 1, COUNT(*) FROM samples WHERE run_id = ?");
+  indices.bind(1, runs.back().id);
+  ASSERT_TRUE(indices.step());
+  EXPECT_EQ(indices.integer(0), indices.integer(1)) << "a gap in the committed sample indices";
+  // A new run is refused: 507 when the archive cannot take its row, 409 if the state is judged first.
   expect_reset_required("Fault", 507, 409);
-  std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | run kept up to the last commit\n", reason.c_str());
+  ::prlimit(pid, RLIMIT_FSIZE, &old, nullptr);  // space again: rigd can log and stop cleanly
+  std::printf("FAULT-TABLE | DiskFullMidCut | Fault: %s | motor off %.1f ms after injection (sim time)\n", reason.c_str(),
+              off_ms);
+}
+
+// Arms a run against a leaking IOP line and waits for its fault; a timing fault of the simulated
+// rig meanwhile (an overrun storm on a busy machine) is printed, reset and the run armed again,
+// three times at most. Returns the sim time before the run was posted (-1 if it never faulted).
+double arm_against_a_leak_until_fault(RigProcesses& rig, testing::SimPanel& panel) {
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    std::string why;
+    if (!rig.prepare(why)) {
+      ADD_FAILURE() << why;
+      return -1.0;
+    }
+    panel.set_float(panel_reg::kIopLeak, 0.9F);  // a burst line: 4 mmHg at most, the run asks 15
+    const double before_run_s = panel.sim_time_s();
+    if (rig.api().post("/api/run", kRun).status != 200 || !rig.wait_state("Fault", 15)) {
+      ADD_FAILURE() << "the armed run did not fault: " << rig.status().dump();
+      return -1.0;
+    }
+    const std::string fault = rig.status().value("fault", "");
+    if (!cli::is_timing_fault(fault)) return before_run_s;
+    std::printf("ACCIDENTAL | a timing fault while armed, reset and armed again: %s\n", fault.c_str());
+    panel.set_float(panel_reg::kIopLeak, 0.0F);
+    rig.api().post("/api/reset");
+    rig.wait([](const json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
+  }
+  ADD_FAILURE() << "three timing faults in a row";
+  return -1.0;
+}
+
+TEST_F(FaultMatrixCustomRig, IopLeakBeforeTheCutNeverSettles) {
+  // iop.settle_timeout_s = 2 instead of 20: the row waits 2 s for a pressure that cannot come.
+  constexpr double kSettleTimeout_s = 2.0;
+  rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup({"iop.settle_timeout_s=2"}));
+  testing::SimPanel panel(rig_->sim_port());
+  const double before_run_s = arm_against_a_leak_until_fault(*rig_, panel);
+  ASSERT_GE(before_run_s, 0.0);
+  // The motor never ran: Armed keeps it off until the IOP has settled.
+  EXPECT_FALSE(panel.motor_powered());
+  EXPECT_LT(panel.motor_off_time_s(), before_run_s) << "the motor was powered while armed";
+  const std::string reason = rig_->status()["fault"];
+  EXPECT_NE(reason.find("IOP did not settle"), std::string::npos) << reason;
+  panel.set_float(panel_reg::kIopLeak, 0.0F);
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The run never started: archived as cancelled, with the fault event dated by rigd's loop
+  // iop.settle_timeout_s after its arming.
+  const json runs = json::parse(rig_->api().get("/api/runs").body);
+  ASSERT_FALSE(runs["runs"].empty());
+  EXPECT_EQ(runs["runs"][0]["outcome"], "cancelled") << runs["runs"][0].dump();
+  EXPECT_EQ(runs["runs"][0]["samples"], 0);
+  archive::Database db(rig_->archive_path(), true);
+  auto times = db.prepare("SELECT (SELECT MIN(t_s) FROM events WHERE run_id = ?1 AND kind = 'command' AND message = 'arm: accepted'),"
+                          " (SELECT t_s FROM events WHERE run_id = ?1 AND kind = 'fault' AND message LIKE 'IOP did not settle%')");
+  times.bind(1, runs["runs"][0]["run_id"].get<std::int64_t>());
+  ASSERT_TRUE(times.step());
+  ASSERT_FALSE(times.is_null(0) || times.is_null(1)) << "no arm or no 'IOP did not settle' event archived";
+  const double fault_after_s = times.real(1) - times.real(0);
+  EXPECT_GE(fault_after_s, kSettleTimeout_s - 0.001) << "faulted before iop.settle_timeout_s";
+  // The loop counts a late cycle as at most 10 periods (control_loop.cpp): on a busy machine
+  // the time-out comes later by the loop's longer stalls (76 ms seen at load average 11).
+  EXPECT_LE(fault_after_s, kSettleTimeout_s + 0.25) << "faulted late after arming [s]";
+  expect_reset_required("Fault");
+  std::printf("FAULT-TABLE | IopLeakBeforeTheCutNeverSettles | Fault: %s | motor never powered; fault %.4f s after arming (loop time)\n",
+              reason.c_str(), fault_after_s);
 }
 
 TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {

@@ -65,7 +65,8 @@ inline constexpr int kHomeSwitchBroken = 114;  // u16 0/1: the home switch never
 inline constexpr int kRejectWrites = 115;      // u16 0/1: output-block writes get exception 4
 inline constexpr int kRestartDaq = 116;        // u16 write a new non-zero value: the DAQ reboots
 inline constexpr int kTripWatchdog = 117;      // u16 write a new non-zero value: the DAQ's watchdog trips
-inline constexpr int kCount = 18;
+inline constexpr int kIopLeak = 118;           // f32 [0..1]: fraction of the pump's pressure a leak loses (burst line)
+inline constexpr int kCount = 20;
 }  // namespace sim_panel
 
 namespace sim_truth {
