@@ -46,6 +46,10 @@ int main(int argc, char** argv) {
   app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
   app.add_option("--cpu-wake-latency-us", cpu_wake_latency_us,
                  "PM QoS while serving: idle CPUs wake within this (0 = poll), -1 = no request [us]")->check(CLI::Range(-1, 100000));
+  app.add_option("--heartbeat-fd", options.heartbeat_fd,
+                 "write a heartbeat line (CLOCK_MONOTONIC now and age of the last DAQ read [us]) to this open descriptor, -1 = none")
+      ->check(CLI::Range(-1, 1 << 20));
+  app.add_option("--heartbeat-ms", options.heartbeat_ms, "heartbeat period [ms]")->check(CLI::Range(1, 60000));
   app.add_flag("!--no-lock-memory", lock_memory, "do not mlockall (page faults may then delay replies)");
   CLI11_PARSE(app, argc, argv);
 
@@ -89,6 +93,10 @@ int main(int argc, char** argv) {
     std::cout << "rig-sim: reply time " << server.reply_time().summary() << "; gap between replies "
               << server.reply_gap().summary() << "; physics clock late " << server.physics_lateness().summary()
               << std::endl;
+    if (server.heartbeat().enabled()) {
+      std::cout << "rig-sim: heartbeat lines written " << server.heartbeat().written() << ", dropped "
+                << server.heartbeat().dropped() << std::endl;
+    }
   } catch (const std::exception& e) {
     std::cerr << e.what() << "\n";
     return 1;

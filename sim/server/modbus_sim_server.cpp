@@ -31,7 +31,8 @@ void ModbusSimServer::MappingFree::operator()(_modbus_mapping_t* mapping) const 
 ModbusSimServer::ModbusSimServer(RigPhysics& physics, const SimServerOptions& options)
     : physics_(&physics),
       ctx_(modbus_new_tcp(options.bind.c_str(), options.port)),
-      mapping_(modbus_mapping_new(0, 0, reg::kMapSize, reg::kMapSize)) {
+      mapping_(modbus_mapping_new(0, 0, reg::kMapSize, reg::kMapSize)),
+      heartbeat_(options.heartbeat_fd, options.heartbeat_ms) {
   if (!ctx_ || !mapping_) throw std::runtime_error("rig-sim: cannot create the Modbus server: " + std::string(modbus_strerror(errno)));
   modbus_set_slave(ctx_.get(), reg::kUnitId);
   listen_fd_ = modbus_tcp_listen(ctx_.get(), 16);
@@ -182,6 +183,7 @@ ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
   const int header = modbus_get_header_length(ctx);
   const int function = query[header];
   const int address = (query[header + 1] << 8) | query[header + 2];
+  if (function == MODBUS_FC_READ_INPUT_REGISTERS) heartbeat_.note_read_request(steady_ns());
   if (garbage && function == MODBUS_FC_READ_INPUT_REGISTERS) {
     std::fill_n(mapping_->tab_input_registers, reg::input::kCount, std::uint16_t{0xFFFF});
   }
@@ -244,6 +246,7 @@ void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
     if (next < woke) next = woke;  // after a stall: carry on from now, do not burst
     std::this_thread::sleep_until(next);
     physics_lateness_.record(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - next).count());
+    heartbeat_.tick(steady_ns());
     std::lock_guard lock(mutex_);
     refresh_registers();
     std::uint16_t& drop = mapping_->tab_registers[reg::sim_panel::kLinkDrop];

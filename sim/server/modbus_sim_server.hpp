@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "heartbeat_writer.hpp"
 #include "latency_tally.hpp"
 #include "rig/sim/rig_physics.hpp"
 
@@ -25,6 +26,10 @@ struct SimServerOptions {
   // same registers: the DAQ on RTU while tests and mbpoll keep the TCP panel.
   std::string rtu_device;
   int rtu_baud = 115200;
+  // Heartbeat lines (heartbeat_writer.hpp) on this open descriptor every heartbeat_ms [ms];
+  // -1 = none (the default).
+  int heartbeat_fd = -1;
+  int heartbeat_ms = 5;
 };
 
 class ModbusSimServer {
@@ -41,6 +46,7 @@ class ModbusSimServer {
   const LatencyTally& reply_time() const { return reply_time_; }
   const LatencyTally& reply_gap() const { return reply_gap_; }
   const LatencyTally& physics_lateness() const { return physics_lateness_; }
+  const HeartbeatWriter& heartbeat() const { return heartbeat_; }
 
  private:
   struct ModbusCloser {
@@ -77,6 +83,7 @@ class ModbusSimServer {
   LatencyTally reply_time_;
   LatencyTally reply_gap_;
   LatencyTally physics_lateness_;
+  HeartbeatWriter heartbeat_;  // written by the physics thread, fed by the server thread
   std::int64_t last_reply_ns_ = 0;  // steady clock, server thread only
 };
 

@@ -10,7 +10,10 @@ archive=/mnt/rig/archive.sqlite
 export RIG_API=http://127.0.0.1:8080
 # The eye close to the home switch and fast homing, as in the durability test: every boot homes.
 # rig-sim on its own vCPU above rigd's SCHED_FIFO loop (80): its replies are due within 950 us.
-taskset 2 chrt -f 81 rig-sim --port 1502 --surface-mm 12 > /tmp/rig-sim.log 2>&1 &
+# Its heartbeat (every 5 ms: the guest's clock and the age of rigd's last DAQ read [us]) goes to
+# the second serial port, which the host reads as it arrives (heartbeat_watch.py).
+taskset 2 chrt -f 81 rig-sim --port 1502 --surface-mm 12 --heartbeat-fd 3 --heartbeat-ms 5 \
+  3>/dev/ttyS1 > /tmp/rig-sim.log 2>&1 &
 # TCG emulation runs both processes several times slower than the hardware: the link,
 # lost-write and overrun interlocks get room (the subject here is the archive, not the link):
 # rig-sim's replies miss the 950 us time-out in runs of cycles, so 3 lost writes in a row (the
@@ -23,13 +26,18 @@ rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
   --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
   --set safety.max_failed_writes=400 --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
   --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 \
-  --set iop.settle_time_s=0.3 > /tmp/rigd.log 2>&1 &
+  --set iop.settle_time_s=0.3 --set stream.udp_enabled=true --set stream.udp_port=9870 > /tmp/rigd.log 2>&1 &
 rigd=$!
 for i in $(seq 150); do rig status > /dev/null 2>&1 && break; kill -0 $rigd || break; sleep 0.2; done
 rig status > /dev/null || { cat /tmp/rigd.log /tmp/rig-sim.log; exit 1; }
+# The loop's start on CLOCK_MONOTONIC [s] (a sample's time there = this + its t_s), from one
+# datagram of rigd's UDP stream: the host puts the archived samples on the heartbeat's clock.
+loop_start=$(timeout 10 socat -u UDP-RECVFROM:9870,bind=127.0.0.1 STDOUT 2>/dev/null |
+  sed -n 's/.*"loop_start_monotonic_s":\([0-9.e+-]*\).*/\1/p')
+echo "LOOPSTART ${loop_start:--1}"
 echo "INTEGRITY $(sqlite3 "$archive" 'PRAGMA integrity_check' 2>&1 | tr '\n' ' ')"
-sqlite3 -separator ' ' "$archive" "SELECT 'RUNROW', r.id, r.outcome, COUNT(s.idx), IFNULL(MIN(s.idx), -1), IFNULL(MAX(s.idx), -1)
-  FROM runs r LEFT JOIN samples s ON s.run_id = r.id GROUP BY r.id ORDER BY r.id" || exit 1
+sqlite3 -separator ' ' "$archive" "SELECT 'RUNROW', r.id, r.outcome, COUNT(s.idx), IFNULL(MIN(s.idx), -1), IFNULL(MAX(s.idx), -1),
+  IFNULL(MAX(s.t_s), -1) FROM runs r LEFT JOIN samples s ON s.run_id = r.id GROUP BY r.id ORDER BY r.id" || exit 1
 grep -q rigmode=check /proc/cmdline && exit 0
 # The DAQ link comes up a moment after the API (the first replies under TCG are slow).
 for i in $(seq 20); do rig home > /dev/null 2>&1 && break; rig reset > /dev/null 2>&1; sleep 0.2; done
