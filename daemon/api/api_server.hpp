@@ -34,6 +34,8 @@ class ApiServer final : public service::StreamSink {
   void start();
   void stop();
   int port() const { return port_; }
+  // Nice value of the I/O thread (normal: 0): it answers stop and e-stop first on a busy CPU.
+  static constexpr int kIoThreadNice = -10;
 
   void publish(std::shared_ptr<const std::string> message) override;
 
@@ -51,6 +53,7 @@ class ApiServer final : public service::StreamSink {
   void admit(boost::asio::ip::tcp::socket&& socket);
   void warn_of_eviction();
   void run_guarded();
+  void raise_priority();
 
   ApiContext* context_;
   // Before io_: sessions still queued in io_ when it is destroyed give their slots back here.
