@@ -1,6 +1,7 @@
-// rigd's API server in-process on loopback (real sockets, no RT loop): one address cannot take
-// more than api.max_clients_per_address connections, and connections refused a slot are served
-// stop / e-stop only, the oldest evicted first.
+// rigd's API server in-process on loopback (real sockets, no RT loop): an exception thrown
+// from a request handler, a posted handler or a timer is counted and the server keeps
+// answering; one address cannot take more than api.max_clients_per_address connections, and
+// connections refused a slot are served stop / e-stop only, the oldest evicted first.
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
@@ -64,6 +65,40 @@ class ApiServerTest : public ::testing::Test {
   ApiContext context_;
   std::unique_ptr<ApiServer> server_;
 };
+
+TEST_F(
+    ApiServerTest,
+    ExceptionsThrownFromARequestHandlerAPostedHandlerAndATimerAreCountedAndTheServerKeepsAnswering) {
+  std::atomic<bool> thrown{false};
+  // A fault past the router's own error handling (it catches std::exception only): the
+  // Prometheus hook of a driver throwing something that is not a std::exception.
+  context_.extra_metrics = [&thrown]() -> std::string {
+    if (!thrown.exchange(true)) throw 42;
+    return "";
+  };
+  start(16, 16);
+  const testing::ProbeReply first = get("/metrics");
+  EXPECT_FALSE(first.answered) << "the throwing request's connection ends unanswered: "
+                               << first.body;
+  ASSERT_TRUE(eventually([&] { return context_.counters.handler_exceptions.load() == 1; }))
+      << context_.counters.handler_exceptions.load();
+
+  boost::asio::post(server_->io(), [] { throw std::runtime_error("a posted handler failed"); });
+  auto timer =
+      std::make_shared<boost::asio::steady_timer>(server_->io(), std::chrono::milliseconds(20));
+  timer->async_wait([timer](const boost::system::error_code&) {
+    throw std::logic_error("a timer's handler failed");
+  });
+  ASSERT_TRUE(eventually([&] { return context_.counters.handler_exceptions.load() == 3; }))
+      << context_.counters.handler_exceptions.load();
+
+  const testing::ProbeReply status = get("/api/status");
+  EXPECT_EQ(status.status, 200) << status.error << status.body;
+  const testing::ProbeReply metrics = get("/metrics");
+  EXPECT_EQ(metrics.status, 200) << metrics.error << metrics.body;
+  EXPECT_NE(metrics.body.find("rigd_api_handler_exceptions_total 3\n"), std::string::npos)
+      << metrics.body;
+}
 
 TEST_F(ApiServerTest,
        AnAddressHoldingItsShareOfConnectionsIsServedStopOnlyOnAnotherWhileOtherAddressesAreServed) {
