@@ -153,7 +153,9 @@ void add_service_fields(std::vector<ConfigField>& f) {
   f.push_back(path("api.web_root", "directory of the overlay page", RIG_AT(api.web_root)));
   f.push_back(integer("api.max_body_bytes", 256, 16777216, "largest request body [B]", RIG_AT(api.max_body_bytes)));
   f.push_back(text("api.allowed_origins", {}, "comma-separated origins (http[s]://host[:port]) of pages that may command rigd besides its own", RIG_AT(api.allowed_origins)));
-  f.push_back(integer("api.max_clients", 1, 1024, "concurrent connections", RIG_AT(api.max_clients)));
+  f.push_back(integer("api.max_clients", 1, 1024, "concurrent connections (HTTP and WebSocket)", RIG_AT(api.max_clients)));
+  f.push_back(integer("api.max_clients_per_address", 1, 1024,
+                      "concurrent connections from one peer address (at most api.max_clients count)", RIG_AT(api.max_clients_per_address)));
   f.push_back(integer("stream.batch_ms", 5, 1000, "live stream batch period [ms]", RIG_AT(stream.batch_ms)));
   f.push_back(boolean("stream.udp_enabled", "PlotJuggler UDP JSON stream", RIG_AT(stream.udp_enabled)));
   f.push_back(text("stream.udp_host", {}, "UDP destination host", RIG_AT(stream.udp_host)));

@@ -20,13 +20,15 @@ struct ApiCounters {
   std::atomic<std::uint64_t> http_requests{0};
   std::atomic<std::uint64_t> refused_unauthorized{0};
   std::atomic<std::uint64_t> refused_invalid{0};
-  std::atomic<std::uint64_t> refused_cross_site{0};
-  std::atomic<std::uint64_t> handler_exceptions{0};  // caught at the I/O thread's top  // Host / Origin / Content-Type guard
+  std::atomic<std::uint64_t> refused_cross_site{0};  // Host / Origin / Content-Type guard
+  std::atomic<std::uint64_t> handler_exceptions{0};  // caught at the I/O thread's top
   std::atomic<std::int64_t> ws_clients{0};
   std::atomic<std::uint64_t> ws_messages_sent{0};
   std::atomic<std::uint64_t> ws_messages_dropped{0};  // slow clients: oldest batches dropped
   std::atomic<std::int64_t> open_connections{0};
-  std::atomic<std::int64_t> safety_only_connections{0};  // over api.max_clients: stop / e-stop only
+  std::atomic<std::int64_t> safety_only_connections{0};  // refused a general slot: stop / e-stop only
+  std::atomic<std::uint64_t> connections_evicted{0};  // safety-only ones closed for newer ones
+  std::atomic<std::uint64_t> accept_failures{0};  // accept() errors, e.g. no descriptor left
 };
 
 class LabService;      // model lab requests (non-RT worker), optional

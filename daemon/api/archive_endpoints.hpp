@@ -19,6 +19,9 @@ namespace rig::api {
 
 class ArchiveEndpoints {
  public:
+  // Nice value of the archive thread (0 = the I/O thread's, 19 = the lowest priority): it
+  // yields the CPU to the I/O thread that answers stop and e-stop.
+  static constexpr int kArchiveThreadNice = 10;
   ArchiveEndpoints(boost::asio::io_context& io, ApiContext& context);
   ~ArchiveEndpoints();
 

@@ -10,28 +10,50 @@ namespace rig::api {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, bool safety_only)
-    : stream_(std::move(socket)), server_(&server), safety_only_(safety_only) {
+HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot)
+    : stream_(std::move(socket)), server_(&server), slot_(std::move(slot)), safety_only_(false) {
   server_->context().counters.open_connections.fetch_add(1);
-  if (safety_only_) server_->context().counters.safety_only_connections.fetch_add(1);
+}
+
+HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::string why)
+    : stream_(std::move(socket)), server_(&server), safety_only_(true), safety_only_reason_(std::move(why)) {
+  server_->context().counters.open_connections.fetch_add(1);
+  server_->context().counters.safety_only_connections.fetch_add(1);
 }
 
 HttpSession::~HttpSession() {
+  leave_safety_only_queue();
   server_->context().counters.open_connections.fetch_sub(1);
   if (safety_only_) server_->context().counters.safety_only_connections.fetch_sub(1);
 }
 
-void HttpSession::run() { read(); }
+void HttpSession::run() {
+  if (safety_only_) waiting_place_ = server_->safety_only_queue().enter(shared_from_this());
+  read();
+}
+
+void HttpSession::evict() {
+  waiting_place_.reset();
+  server_->context().counters.connections_evicted.fetch_add(1);
+  stream_.close();  // the pending read ends with operation_aborted, and with it the session
+}
+
+void HttpSession::leave_safety_only_queue() {
+  if (!waiting_place_) return;
+  server_->safety_only_queue().leave(*waiting_place_);
+  waiting_place_.reset();
+}
 
 void HttpSession::read() {
   parser_.emplace();
   parser_->body_limit(static_cast<std::uint64_t>(server_->context().config->api.max_body_bytes));
   parser_->header_limit(16 * 1024);
-  stream_.expires_after(std::chrono::seconds(safety_only_ ? 2 : 15));  // a silent client is dropped
+  stream_.expires_after(safety_only_ ? kSafetyOnlyReadTimeout : kReadTimeout);  // a silent client is dropped
   http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
 }
 
 void HttpSession::on_read(beast::error_code ec) {
+  leave_safety_only_queue();  // read or failed: an answer being made is never evicted
   if (ec == http::error::end_of_stream || ec == beast::error::timeout) {
     stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ec);
     return;
@@ -42,29 +64,32 @@ void HttpSession::on_read(beast::error_code ec) {
     return;
   }
   if (ec) return;
-  Request request = parser_->release();
+  serve(parser_->release());
+}
+
+void HttpSession::serve(Request&& request) {
   if (safety_only_ && !is_safety_request(request)) {
     request.keep_alive(false);
-    return send(error_response(request, http::status::service_unavailable,
-                               "rigd is serving api.max_clients connections: only stop and e-stop are answered now"));
+    return send(error_response(request, http::status::service_unavailable, safety_only_reason_));
   }
   if (safety_only_) request.keep_alive(false);
   const std::string target(request.target());
-  if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws") {
-    if (const auto why = server_->context().guard.upgrade_refusal(request)) {
-      server_->context().counters.refused_cross_site.fetch_add(1);
-      spdlog::warn("api: refused a WebSocket upgrade: {}", *why);
-      return send(error_response(request, http::status::forbidden, *why));
-    }
-    if (!server_->context().auth.authorized(request)) {
-      server_->context().counters.refused_unauthorized.fetch_add(1);
-      return send(error_response(request, http::status::unauthorized, "a valid API token is required"));
-    }
-    stream_.expires_never();
-    std::make_shared<WsSession>(stream_.release_socket(), *server_)->run(std::move(request));
-    return;
-  }
+  if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws") return upgrade(std::move(request));
   server_->router().handle(request, [self = shared_from_this()](Response&& response) { self->send(std::move(response)); });
+}
+
+void HttpSession::upgrade(Request&& request) {
+  if (const auto why = server_->context().guard.upgrade_refusal(request)) {
+    server_->context().counters.refused_cross_site.fetch_add(1);
+    spdlog::warn("api: refused a WebSocket upgrade: {}", *why);
+    return send(error_response(request, http::status::forbidden, *why));
+  }
+  if (!server_->context().auth.authorized(request)) {
+    server_->context().counters.refused_unauthorized.fetch_add(1);
+    return send(error_response(request, http::status::unauthorized, "a valid API token is required"));
+  }
+  stream_.expires_never();
+  std::make_shared<WsSession>(stream_.release_socket(), *server_, std::move(slot_))->run(std::move(request));
 }
 
 void HttpSession::send(Response&& response) {
@@ -79,8 +104,8 @@ void HttpSession::send(Response&& response) {
   });
 }
 
-WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server)
-    : ws_(std::move(socket)), server_(&server) {}
+WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot)
+    : ws_(std::move(socket)), server_(&server), slot_(std::move(slot)) {}
 
 void WsSession::run(Request request) {
   // Bounded kernel buffer per client (~2 s of stream): a client that stops reading fills it

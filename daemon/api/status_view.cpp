@@ -82,6 +82,12 @@ std::string prometheus_metrics(ApiContext& c) {
   counter("rigd_http_unauthorized_total", "requests refused for a missing or wrong token", static_cast<double>(c.counters.refused_unauthorized.load()));
   counter("rigd_http_cross_site_refused_total", "requests refused by the Host / Origin / Content-Type guard", static_cast<double>(c.counters.refused_cross_site.load()));
   counter("rigd_api_handler_exceptions_total", "request handlers that threw past their own error handling", static_cast<double>(c.counters.handler_exceptions.load()));
+  counter("rigd_api_connections_evicted_total", "stop/e-stop-only connections closed unread for newer ones (safety_only_queue.hpp)",
+          static_cast<double>(c.counters.connections_evicted.load()));
+  counter("rigd_api_accept_failures_total", "failed accepts (no descriptor left, ...)", static_cast<double>(c.counters.accept_failures.load()));
+  gauge("rigd_api_connections", "open HTTP connections (WebSocket streams: rigd_stream_clients)", static_cast<double>(c.counters.open_connections.load()));
+  gauge("rigd_api_safety_only_connections", "open connections refused a general slot, served stop/e-stop only",
+        static_cast<double>(c.counters.safety_only_connections.load()));
   gauge("rigd_stream_clients", "connected WebSocket clients", static_cast<double>(c.counters.ws_clients.load()));
   gauge("rigd_force_newtons", "tared force", st.force_N);
   gauge("rigd_position_mm", "carriage position", st.position_mm);

@@ -108,6 +108,20 @@ TEST(Config, AnAllowedOriginThatIsNotAnOriginIsRefused) {
   EXPECT_EQ(message_for("[api]\nallowed_origins = \"http://rig07:8080, https://rig08.lab:8443\"\n"), "no error");
 }
 
+TEST(Config, ThePerAddressConnectionCapDefaultsToHalfTheConnectionsAndIsRangeChecked) {
+  const RigdConfig shipped = load_rigd_config(testing::source("config/rigd.toml"));
+  EXPECT_EQ(shipped.api.max_clients, 64);
+  EXPECT_EQ(shipped.api.max_clients_per_address, 32);
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml"), {"api.max_clients_per_address=4"}).api.max_clients_per_address, 4);
+  const std::string zero = message_for("[api]\nmax_clients_per_address = 0\n");
+  EXPECT_NE(zero.find("rigd.toml:2"), std::string::npos) << zero;
+  EXPECT_NE(zero.find("'api.max_clients_per_address'"), std::string::npos) << zero;
+  EXPECT_NE(zero.find("out of range [1, 1024]"), std::string::npos) << zero;
+  const std::string text = message_for("[api]\nmax_clients_per_address = \"8\"\n");
+  EXPECT_NE(text.find("'api.max_clients_per_address': expected an integer"), std::string::npos) << text;
+  EXPECT_NE(describe_config_keys().find("api.max_clients_per_address (an integer in [1, 1024])"), std::string::npos);
+}
+
 TEST(Config, AResponseTimeoutLongerThanTheLoopPeriodIsRefused) {
   const std::string m = message_for("[loop]\nrate_hz = 5000\n[daq]\nresponse_timeout_us = 700\n");
   EXPECT_NE(m.find("'daq.response_timeout_us'"), std::string::npos) << m;

@@ -63,7 +63,8 @@ struct ApiSection {
   std::string token_file;         // required for any non-loopback bind
   std::string web_root = "/usr/share/rigd/web";
   int max_body_bytes = 65536;
-  int max_clients = 64;
+  int max_clients = 64;           // general connections (HTTP and WebSocket) in all
+  int max_clients_per_address = 32;  // of those, from one peer address (capped at max_clients)
   std::string allowed_origins;    // comma-separated page origins besides rigd's own (CSRF guard)
 };
 
