@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "archive.hpp"
+#include "long_run.hpp"
 #include "http_probe.hpp"
 #include "rig_processes.hpp"
 #include "safety_answers.hpp"
@@ -24,20 +25,7 @@ using boost::beast::http::verb;
 using Clock = std::chrono::steady_clock;
 using testing::expect_each_answered_in_time;
 
-model::RunData long_run(std::size_t samples) {
-  model::RunData run;
-  run.source = "long.csv";
-  run.set("eye_id", "LONG");
-  run.t_s.resize(samples);
-  run.x_mm.resize(samples);
-  run.force_N.resize(samples);
-  for (std::size_t i = 0; i < samples; ++i) {
-    run.t_s[i] = static_cast<double>(i) * 1e-3;
-    run.x_mm[i] = static_cast<double>(i) * 1e-5;
-    run.force_N[i] = 0.1 + static_cast<double>(i % 1000) * 1e-4;
-  }
-  return run;
-}
+model::RunData long_run(std::size_t samples) { return testing::long_run(samples, 1e-3); }  // [s] apart
 
 // Lines of a run-CSV that are neither metadata ("# key: value") nor the column header.
 std::size_t sample_lines(const std::string& csv) {

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "archive.hpp"
+#include "long_run.hpp"
 #include "test_paths.hpp"
 
 namespace rig::archive {
@@ -22,20 +23,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-model::RunData long_run(std::size_t samples) {
-  model::RunData run;
-  run.source = "long.csv";
-  run.set("eye_id", "LONG");
-  run.t_s.resize(samples);
-  run.x_mm.resize(samples);
-  run.force_N.resize(samples);
-  for (std::size_t i = 0; i < samples; ++i) {
-    run.t_s[i] = static_cast<double>(i) * 1e-4;
-    run.x_mm[i] = static_cast<double>(i) * 1e-5;
-    run.force_N[i] = 0.1;
-  }
-  return run;
-}
+model::RunData long_run(std::size_t samples) { return testing::long_run(samples, 1e-4); }  // [s] apart
 
 TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneChunk) {
   testing::ScratchDir dir("archive-import-lock");
