@@ -147,6 +147,7 @@ Evaluated evaluate(const std::string& name, const ForceModel& model, const Effec
   std::snprintf(numbers, sizeof numbers, " [CV RMSE %.4f -> %.4f N (%+.1f %%), most in the %s phase, %.0f %% of runs better]",
                 base.rmse_N, cv.rmse_N, -c.gain_pct, c.where.c_str(), 100.0 * c.runs_improved);
   c.evidence = family.evidence(name, cv.full, runs) + numbers;
+  if (!family.identifiable(name, cv.full, runs, c.not_applicable)) c.applicable = false;  // never a verdict nor a partial one
   return out;
 }
 

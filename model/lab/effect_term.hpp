@@ -71,6 +71,10 @@ class EffectTerm {
   virtual std::vector<std::vector<double>> starts() const;
   // The evidence in words, from the fitted parameters.
   virtual std::string evidence(const EvidenceInput& in) const = 0;
+  // Whether the fitted form can be told apart from a smooth misfit of the baseline over
+  // these data (e.g. a period seen repeating); false with the reason when it cannot. Asked
+  // after the fit: a candidate that is not identifiable is never a verdict or a partial one.
+  virtual bool identifiable(const EvidenceInput& /*fitted*/, std::string& /*why_not*/) const { return true; }
 
   // Effect families: a catalogue entry covers the forms its physics uses ("coulomb",
   // "viscous", ...). forms() names them (empty: a single form); form() is this instance's.

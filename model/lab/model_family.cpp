@@ -92,7 +92,8 @@ std::vector<UserTerm> ModelFamily::user_terms(const ModelParams& params) const {
   return out;
 }
 
-std::string ModelFamily::evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+std::optional<std::pair<const EffectTerm*, EvidenceInput>> ModelFamily::fitted_term(
+    const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
   int column = 0;
   for (std::size_t k = 0; k < owned_.size(); ++k) {
     const int columns = owned_[k]->linear_columns();
@@ -101,11 +102,22 @@ std::string ModelFamily::evidence(const std::string& effect, const FitResult& fi
       for (const auto& c : fit.run_coefficients) {
         in.run_coefficients.push_back(columns > 0 && c.size() >= column + columns ? Eigen::VectorXd(c.segment(column, columns)) : Eigen::VectorXd());
       }
-      return owned_[k]->evidence(in);
+      return std::make_pair(owned_[k].get(), std::move(in));
     }
     column += columns;
   }
-  return "";
+  return std::nullopt;
+}
+
+std::string ModelFamily::evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+  const auto term = fitted_term(effect, fit, runs);
+  return term ? term->first->evidence(term->second) : "";
+}
+
+bool ModelFamily::identifiable(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs,
+                               std::string& why_not) const {
+  const auto term = fitted_term(effect, fit, runs);
+  return !term || term->first->identifiable(term->second, why_not);
 }
 
 }  // namespace rig::model

@@ -5,6 +5,8 @@
 // fold uses the same effects rebuilt on its training runs (trained_on): every family's form
 // is chosen there, so a held-out run decides nothing of its fold.
 #include <memory>
+#include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -34,8 +36,14 @@ class ModelFamily {
   // The user terms of the family with their fitted parameters, for the model file's [terms].
   std::vector<UserTerm> user_terms(const ModelParams& params) const;
   std::string evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
+  // EffectTerm::identifiable of `effect` with the parameters of `fit` (true if not in the family).
+  bool identifiable(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs,
+                    std::string& why_not) const;
 
  private:
+  // The term named `effect` and its fitted parameters, as its evidence sees them.
+  std::optional<std::pair<const EffectTerm*, EvidenceInput>> fitted_term(const std::string& effect, const FitResult& fit,
+                                                                          const std::vector<const PreparedRun*>& runs) const;
   EffectCatalogue catalogue_;        // shares its form choices and per-subset catalogues
   std::vector<std::string> extra_;  // the effects asked for beyond the model's own
   std::vector<std::unique_ptr<EffectTerm>> owned_;

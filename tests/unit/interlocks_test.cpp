@@ -223,6 +223,23 @@ TEST_F(InterlockTest, ADaqWatchdogTripFaultsTheRunAndTheMotorIsNeverPoweredAgain
   expect_run_kept_with(FaultCode::kDaqWatchdogTripped);
 }
 
+// The trip can fall between a cycle's read and its write: the host's next write ("motor on",
+// computed before the trip) must not re-arm the DAQ before the host has read the bit.
+TEST_F(InterlockTest, ADaqWatchdogTripBetweenReadAndWriteIsStillSeenAndTheMotorStaysOff) {
+  const double t = rig_.physics().time_s();
+  rig_.physics().trip_watchdog();
+  drivers::DriveCommand motor_on;
+  motor_on.motor_enable = true;
+  motor_on.motor_volts = 1.0;
+  drivers::DigitalOutputs enabled;
+  enabled.motor_enable = true;
+  rig_.physics().write_outputs(motor_on, enabled);
+  EXPECT_FALSE(rig_.physics().truth().motor_powered) << "a write with the motor on re-armed the tripped DAQ";
+  EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
+  EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWatchdogTripped);
+  expect_run_kept_with(FaultCode::kDaqWatchdogTripped);
+}
+
 TEST_F(InterlockTest, ADaqRebootFaultsTheRunAndTheMotorIsNeverPoweredAgain) {
   const double t = rig_.physics().time_s();
   rig_.physics().restart_daq();  // outputs off, conversion counter from 0

@@ -1,6 +1,7 @@
 #include "spatial_ripple.hpp"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "effect_util.hpp"
 
@@ -39,6 +40,32 @@ std::string SpatialRipple::evidence(const EvidenceInput& in) const {
   return std::string(form_ == kSine ? "sinusoidal ripple: " : "ripple with 3 harmonics: ") +
          format("the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f N, phase differs by run)",
                 in.shared[0], largest_amplitude(in.run_coefficients)) + honesty(in);
+}
+
+bool SpatialRipple::identifiable(const EvidenceInput& fitted, std::string& why_not) const {
+  std::vector<double> traversed_mm;  // per run: the depth range of its analysed samples
+  for (const PreparedRun* run : fitted.runs) {
+    if (run->analysed.empty()) continue;
+    double lo = run->data->x_mm[run->analysed.front()];
+    double hi = lo;
+    for (const std::size_t i : run->analysed) {
+      lo = std::min(lo, run->data->x_mm[i]);
+      hi = std::max(hi, run->data->x_mm[i]);
+    }
+    traversed_mm.push_back(hi - lo);
+  }
+  if (traversed_mm.empty()) return true;
+  auto middle = traversed_mm.begin() + static_cast<std::ptrdiff_t>(traversed_mm.size() / 2);
+  std::nth_element(traversed_mm.begin(), middle, traversed_mm.end());
+  const double period_mm = fitted.shared[0];
+  if (*middle >= kMinPeriodsSeen * period_mm) return true;
+  char text[240];
+  std::snprintf(text, sizeof text,
+                "its best period, %.2f mm, repeats only %.1f times over the %.1f mm the runs traverse (median run; "
+                "a ripple must be seen at least %.0f times): a smooth misfit of the baseline, not a ripple",
+                period_mm, *middle / period_mm, *middle, kMinPeriodsSeen);
+  why_not = text;
+  return false;
 }
 
 }  // namespace rig::model::effects

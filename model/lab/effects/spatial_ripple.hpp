@@ -21,6 +21,11 @@ class SpatialRipple final : public FamilyTerm {
   int linear_columns() const override { return 2 * harmonics(); }  // less their value where the force was tared
   void design(const SampleView& s, const double* p, double* row) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  // A ripple must repeat: its period seen at least kMinPeriodsSeen times over the depth the
+  // runs traverse (median run). Fewer, and a sine bends to any smooth misfit of the baseline
+  // (measured meat indentation: a 3.9 mm "ripple" over 6-8 mm ramps, docs/model-lab.md).
+  bool identifiable(const EvidenceInput& fitted, std::string& why_not) const override;
+  static constexpr double kMinPeriodsSeen = 3.0;
   int harmonics() const { return form_ == kSine ? 1 : 3; }
 };
 

@@ -55,7 +55,10 @@ void RigPhysics::write_outputs(const drivers::DriveCommand& drive,
   drive_ = drive;
   digital_out_ = digital;
   last_write_s_ = time_s_;
-  watchdog_trip_latched_ = false;
+  // A tripped DAQ re-arms only when the host writes safe outputs (motor disabled), as a
+  // latched watchdog does: a host that keeps writing "motor on" must read the bit, not have
+  // its next write clear it unseen (the trip can fall between a cycle's read and its write).
+  if (!drive.motor_enable || !digital.motor_enable) watchdog_trip_latched_ = false;
 }
 
 drivers::DigitalInputs RigPhysics::digital_inputs() const {

@@ -100,7 +100,7 @@ class RigPhysics {
   double eye_mounted_s_ = 0.0;
   double last_write_s_ = 0.0;
   double watchdog_s_ = 0.0;
-  bool watchdog_trip_latched_ = false;  // trip_watchdog(), until the next write
+  bool watchdog_trip_latched_ = false;  // trip_watchdog(), until a write with the motor off
   double motor_off_time_s_ = -1.0;
   bool was_powered_ = false;
   bool auto_new_eye_ = true;
