@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <string>
 #include <vector>
 
 #include "archive.hpp"
@@ -12,9 +13,9 @@
 namespace rig::archive {
 namespace {
 
-// The schema of the first archive (before camera frames and before versions): what an
-// archive from a rig installed then holds, user_version 0.
-constexpr const char* kFirstSchema = R"sql(
+// The tables of the first archive (before camera frames), frozen here as a rig installed then
+// created them: schema version 0 had them without a user_version, version 1 the same tables.
+constexpr const char* kFirstTables = R"sql(
 CREATE TABLE runs (
   id INTEGER PRIMARY KEY AUTOINCREMENT,
   eye_id TEXT NOT NULL, iop_mmHg REAL, velocity_mm_s REAL, depth_mm REAL, hold_s REAL,
@@ -34,6 +35,11 @@ CREATE TABLE channels (
 CREATE TABLE events (
   run_id INTEGER NOT NULL, t_s REAL NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
 CREATE INDEX events_by_run ON events(run_id);
+)sql";
+
+// The first schema (before versions): what an archive from a rig installed then holds,
+// user_version 0.
+const std::string kFirstSchema = std::string(kFirstTables) + R"sql(
 INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, created_at, ended_at, outcome, source)
   VALUES ('E01', 15, 2, 14, '2026-01-05T10:00:00.000Z', '2026-01-05T10:00:09.000Z', 'completed', 'rig');
 INSERT INTO samples (run_id, idx, t_s, position_mm, force_N) VALUES (1, 0, 0.000, 20.0, 0.00), (1, 1, 0.001, 20.002, 0.01);
@@ -79,26 +85,7 @@ TEST(ArchiveSchema, AnArchiveFromTheFirstSchemaIsMigratedForwardAndKeepsItsRuns)
 // An archive of schema version 1 (the previous one, before camera frames): the version-1 tables
 // as daemon/archive/schema_migrations.cpp creates them, user_version 1, and two runs with
 // metadata, 500 samples each, a channel and events.
-constexpr const char* kVersion1Archive = R"sql(
-CREATE TABLE runs (
-  id INTEGER PRIMARY KEY AUTOINCREMENT,
-  eye_id TEXT NOT NULL, iop_mmHg REAL, velocity_mm_s REAL, depth_mm REAL, hold_s REAL,
-  post_mortem_h REAL, operator TEXT, notes TEXT, config_hash TEXT, software_version TEXT,
-  surface_mm REAL NOT NULL DEFAULT 0, rate_hz REAL,
-  created_at TEXT NOT NULL, started_at TEXT, ended_at TEXT,
-  outcome TEXT NOT NULL, reason TEXT, source TEXT NOT NULL);
-CREATE TABLE run_meta (
-  run_id INTEGER NOT NULL REFERENCES runs(id), seq INTEGER NOT NULL, key TEXT NOT NULL,
-  value TEXT NOT NULL, PRIMARY KEY (run_id, seq));
-CREATE TABLE samples (
-  run_id INTEGER NOT NULL, idx INTEGER NOT NULL, t_s REAL NOT NULL, position_mm REAL NOT NULL,
-  force_N REAL NOT NULL, iop_mmHg REAL, velocity_mm_s REAL, motor_V REAL, pump REAL,
-  state INTEGER, phase INTEGER, io_ok INTEGER, PRIMARY KEY (run_id, idx)) WITHOUT ROWID;
-CREATE TABLE channels (
-  run_id INTEGER NOT NULL, name TEXT NOT NULL, data BLOB NOT NULL, PRIMARY KEY (run_id, name));
-CREATE TABLE events (
-  run_id INTEGER NOT NULL, t_s REAL NOT NULL, kind TEXT NOT NULL, message TEXT NOT NULL);
-CREATE INDEX events_by_run ON events(run_id);
+const std::string kVersion1Archive = std::string(kFirstTables) + R"sql(
 INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, operator, surface_mm, rate_hz, created_at,
                   started_at, ended_at, outcome, reason, source) VALUES
   ('E11', 15, 2, 14, 0, 'ab', 20, 1000, '2026-06-01T09:00:00.000Z', '2026-06-01T09:00:02.000Z',
