@@ -139,6 +139,7 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t 
   in.velocity_mm_s = velocity_mm_s_;
   in.overrun_storm = overrun_storm_;
   in.failed_writes = failed_writes_;
+  in.write_refused = write_refused_;
   in.service_fault = ch_->service_fault.load(std::memory_order_relaxed);
 }
 
@@ -186,7 +187,9 @@ drivers::IoStatus ControlLoop::write_outputs(const drivers::DriveCommand& comman
 void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
   if (written == drivers::IoStatus::kOk) {
     failed_writes_ = 0;
+    write_refused_ = false;
   } else if (read_ok) {
+    write_refused_ = written == drivers::IoStatus::kRefused;
     failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, s_.safety.max_failed_writes)
                                                             : failed_writes_ + 1;
     ch_->counters.write_failures.fetch_add(1, std::memory_order_relaxed);

@@ -72,6 +72,7 @@ class ControlLoop final : public EventSink {
   bool overrun_storm_ = false;
   int consecutive_misses_ = 0;
   int failed_writes_ = 0;   // output writes in a row refused in cycles whose read succeeded
+  bool write_refused_ = false;  // the last failed write was an explicit refusal (else lost)
   bool have_frame_ = false; // a valid frame was read (its sequence is the reference)
   std::int64_t unanswered_ns_ = 0;
   std::int64_t last_valid_reply_ns_ = 0;  // on-time cycles without a valid reply since the last one [ns]

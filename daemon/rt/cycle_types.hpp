@@ -22,6 +22,7 @@ struct CycleInput {
   drivers::DigitalInputs inputs{};
   bool overrun_storm = false;
   int failed_writes = 0;        // output writes in a row the DAQ refused while it answered reads
+  bool write_refused = false;   // the last of them was refused (Modbus exception), not lost
   bool daq_restarted = false;   // the DAQ's conversion counter went backwards this cycle (reboot)
   FaultCode service_fault = FaultCode::kNone;  // raised by a non-RT service (recorder, camera)
 };

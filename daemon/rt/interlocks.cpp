@@ -21,7 +21,10 @@ InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& 
 // write would start the motor again without anyone deciding so).
 InterlockVerdict Interlocks::check_daq(const CycleInput& in) noexcept {
   if (in.daq_restarted) return {FaultCode::kDaqRestarted, 0.0};
-  if (in.failed_writes >= s_.safety.max_failed_writes) return {FaultCode::kDaqWriteFailed, static_cast<double>(in.failed_writes)};
+  // Value: how many writes in a row were lost; 0 when the DAQ refused them outright.
+  if (in.failed_writes >= s_.safety.max_failed_writes) {
+    return {FaultCode::kDaqWriteFailed, in.write_refused ? 0.0 : static_cast<double>(in.failed_writes)};
+  }
   if (in.io_ok && in.inputs.daq_watchdog_tripped) return {FaultCode::kDaqWatchdogTripped, 1.0};
   return {};
 }

@@ -22,7 +22,13 @@ std::string describe_fault(rt::FaultCode code, double value) {
     case rt::FaultCode::kHomingFailed:
       std::snprintf(detail, sizeof detail, ": no home switch within %.1f mm of travel", value);
       break;
-    case rt::FaultCode::kDaqWriteFailed: std::snprintf(detail, sizeof detail, ": outputs refused or lost (%.0f)", value); break;
+    case rt::FaultCode::kDaqWriteFailed:
+      if (value > 0.0) {
+        std::snprintf(detail, sizeof detail, ": %.0f writes in a row lost", value);
+      } else {
+        std::snprintf(detail, sizeof detail, ": outputs refused by the DAQ");
+      }
+      break;
     case rt::FaultCode::kDaqWatchdogTripped: std::snprintf(detail, sizeof detail, ": outputs were forced off"); break;
     case rt::FaultCode::kDaqRestarted: std::snprintf(detail, sizeof detail, ": conversion counter restarted, outputs reset"); break;
     default: break;

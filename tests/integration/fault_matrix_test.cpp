@@ -33,6 +33,10 @@ namespace panel_reg = proto::daq::sim_panel;
 
 const std::string kRun = R"({"eye_id":"FAULT","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14})";
 
+// The newest run of GET /api/runs (ordered by id): a timing fault retried by the harness
+// before the injection leaves its own faulted run before the one under test.
+const json& newest_run(const json& runs) { return runs["runs"].back(); }
+
 struct Outcome {
   double motor_off_after_ms = 0;  // sim time from injection to motor power off
   std::string state, reason;
@@ -54,6 +58,7 @@ class FaultMatrix : public ::testing::Test {
     if (!custom_rig_) rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup());
   }
   bool custom_rig_ = false;
+  std::int64_t cut_run_id_ = 0;  // the run cut_into_tissue() started (after any retries)
 
   // Starts a cut and waits until the blade is in the tissue. A timing fault of the simulated
   // rig on a busy machine before that (an overrun storm, a lost link) is printed, reset and the
@@ -61,7 +66,8 @@ class FaultMatrix : public ::testing::Test {
   void cut_into_tissue() {
     std::string why;
     const auto in_tissue = [](const json& s) { return s["state"] == "Cutting" && s["position_mm"] > 23.0; };
-    ASSERT_NE(rig_->cut_until(kRun, in_tissue, why), 0) << why;
+    cut_run_id_ = rig_->cut_until(kRun, in_tissue, why);
+    ASSERT_NE(cut_run_id_, 0) << why;
     testing::SimPanel panel(rig_->sim_port());
     ASSERT_TRUE(panel.motor_powered());
   }
@@ -106,7 +112,8 @@ class FaultMatrix : public ::testing::Test {
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
     const json runs = json::parse(rig_->api().get("/api/runs").body);
     ASSERT_FALSE(runs["runs"].empty());
-    const json& run = runs["runs"][0];
+    const json& run = newest_run(runs);
+    EXPECT_EQ(run.value("run_id", std::int64_t{0}), cut_run_id_) << "the run the row cut is the newest";
     EXPECT_EQ(run.value("outcome", std::string{}), "fault");
     // value(): a run that ended otherwise (no reason key) fails here instead of aborting.
     EXPECT_NE(run.value("reason", std::string{}).find(reason), std::string::npos) << run.dump();
@@ -482,12 +489,12 @@ TEST_F(FaultMatrixCustomRig, IopLeakBeforeTheCutNeverSettles) {
   // iop.settle_timeout_s after its arming.
   const json runs = json::parse(rig_->api().get("/api/runs").body);
   ASSERT_FALSE(runs["runs"].empty());
-  EXPECT_EQ(runs["runs"][0]["outcome"], "cancelled") << runs["runs"][0].dump();
-  EXPECT_EQ(runs["runs"][0]["samples"], 0);
+  EXPECT_EQ(newest_run(runs)["outcome"], "cancelled") << newest_run(runs).dump();
+  EXPECT_EQ(newest_run(runs)["samples"], 0);
   archive::Database db(rig_->archive_path(), true);
   auto times = db.prepare("SELECT (SELECT MIN(t_s) FROM events WHERE run_id = ?1 AND kind = 'command' AND message = 'arm: accepted'),"
                           " (SELECT t_s FROM events WHERE run_id = ?1 AND kind = 'fault' AND message LIKE 'IOP did not settle%')");
-  times.bind(1, runs["runs"][0]["run_id"].get<std::int64_t>());
+  times.bind(1, newest_run(runs)["run_id"].get<std::int64_t>());
   ASSERT_TRUE(times.step());
   ASSERT_FALSE(times.is_null(0) || times.is_null(1)) << "no arm or no 'IOP did not settle' event archived";
   const double fault_after_s = times.real(1) - times.real(0);
@@ -517,8 +524,9 @@ TEST_F(FaultMatrix, RigdKilledWithSigkillMidRun) {
   rig_->start_rigd();  // systemd's Restart=on-failure does this on the rig
   const json runs = json::parse(rig_->api().get("/api/runs").body);
   ASSERT_FALSE(runs["runs"].empty());
-  EXPECT_EQ(runs["runs"][0]["outcome"], "interrupted");
-  EXPECT_GT(runs["runs"][0]["samples"].get<int>(), 1000) << "samples up to the kill are kept";
+  EXPECT_EQ(newest_run(runs)["run_id"], cut_run_id_) << "the run killed is the newest";
+  EXPECT_EQ(newest_run(runs)["outcome"], "interrupted");
+  EXPECT_GT(newest_run(runs)["samples"].get<int>(), 1000) << "samples up to the kill are kept";
   // A restarted rigd is not homed: nothing moves before the technician homes it again.
   EXPECT_EQ(rig_->status()["homed"], false);
   EXPECT_EQ(rig_->api().post("/api/run", kRun).status, 409);

@@ -101,7 +101,7 @@ class RigProcesses {
   std::int64_t cut(const std::string& run_body, std::string& why) const {
     for (int attempt = 0; attempt < 3; ++attempt) {
       if (!prepare(why)) return 0;
-      const auto reply = api().post("/api/run", run_body);
+      const auto reply = post_run(run_body);
       if (reply.status != 200) return why = "run refused: " + reply.body, 0;
       const std::int64_t run_id = nlohmann::json::parse(reply.body)["run_id"];
       nlohmann::json last;
@@ -120,6 +120,18 @@ class RigProcesses {
     }
     return 0;
   }
+  // POST /api/run; refused because the DAQ link is down for a moment at rest (a reply or two
+  // missed on a busy machine: rigd does not arm without the link), it waits for the link and
+  // posts again, three times at most, printed as ACCIDENTAL.
+  cli::HttpReply post_run(const std::string& run_body) const {
+    cli::HttpReply reply = api().post("/api/run", run_body);
+    for (int retry = 0; retry < 3 && reply.status == 409 && reply.body.find("DAQ link is down") != std::string::npos; ++retry) {
+      std::printf("ACCIDENTAL | the run was refused while the DAQ link was down for a moment, posted again\n");
+      wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 5);
+      reply = api().post("/api/run", run_body);
+    }
+    return reply;
+  }
   // A cut started and followed until `reached` holds (e.g. mid-cut, for a kill): a timing
   // fault of the simulated rig before that point is printed, reset and the cut started again,
   // three cuts at most. Returns the run's id, 0 with `why`.
@@ -127,7 +139,7 @@ class RigProcesses {
                          std::string& why) const {
     for (int attempt = 0; attempt < 3; ++attempt) {
       if (!prepare(why)) return 0;
-      const auto reply = api().post("/api/run", run_body);
+      const auto reply = post_run(run_body);
       if (reply.status != 200) return why = "run refused: " + reply.body, 0;
       const std::int64_t run_id = nlohmann::json::parse(reply.body)["run_id"];
       nlohmann::json last;

@@ -3,7 +3,9 @@
 // cycle whatever the setting (docs/faults.md). Virtual clock, whole loop.
 #include <gtest/gtest.h>
 
+#include "recorder.hpp"
 #include "simulated_rig.hpp"
+#include "timing_fault.hpp"
 
 namespace rig {
 namespace {
@@ -58,6 +60,10 @@ TEST_F(LostWrites, LostWriteAnswersFaultTheRunOnlyAfterTheConfiguredNumberInARow
   EXPECT_EQ(st.fault, FaultCode::kDaqWriteFailed);
   EXPECT_EQ(st.fault_value, static_cast<double>(kMaxFailedWrites));
   EXPECT_EQ(more, 1) << "faulted in the cycle after the last lost write";
+  // Lost answers are the link's timing: the demo and the test harness may retry such a cut.
+  const std::string text = service::describe_fault(st.fault, st.fault_value);
+  EXPECT_EQ(text, "DAQ write failed: 6 writes in a row lost");
+  EXPECT_TRUE(cli::is_timing_fault(text)) << text;
 }
 
 TEST_F(LostWrites, AWriteTakenAgainStartsTheCountAfresh) {
@@ -76,7 +82,12 @@ TEST_F(LostWrites, AWriteTakenAgainStartsTheCountAfresh) {
 TEST_F(LostWrites, ARefusedWriteFaultsTheRunInTheNextCycleWhateverTheSetting) {
   rig_.daq().inject_write(IoStatus::kRefused);
   EXPECT_EQ(cycles_until_fault(), 2) << "the refusal is noted in one cycle, judged in the next";
-  EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWriteFailed);
+  const rt::StatusSnapshot st = rig_.status();
+  EXPECT_EQ(st.fault, FaultCode::kDaqWriteFailed);
+  // A refusal is the DAQ's decision, never a timing matter: nothing retries it.
+  const std::string text = service::describe_fault(st.fault, st.fault_value);
+  EXPECT_EQ(text, "DAQ write failed: outputs refused by the DAQ");
+  EXPECT_FALSE(cli::is_timing_fault(text)) << text;
 }
 
 }  // namespace
