@@ -4,7 +4,6 @@
 #include <cmath>
 
 namespace rig::model {
-namespace {
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -12,6 +11,8 @@ double median(std::vector<double> v) {
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
 }
+
+namespace {
 
 // Force smoothed over a window in displacement (not in samples: sampling may be irregular).
 std::vector<double> smooth_in_x(const RunData& run, std::size_t end, double half_width_mm) {

@@ -34,4 +34,7 @@ Segmentation detect_phases(const RunData& run);
 // slow drifts cancel, isolated jumps do not matter).
 double noise_sigma(const std::vector<double>& values, std::size_t begin, std::size_t end);
 
+// The median of `v` (the upper one of an even count); 0 when empty.
+double median(std::vector<double> v);
+
 }  // namespace rig::model

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "grid_line.hpp"
 
@@ -35,9 +36,7 @@ double measured_insertion_velocity(const PreparedRun& p) {
   for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
     if (p.data->x_mm[i] > 0.5 && p.data->x_mm[i] < p.seg.max_depth_mm - 0.5) v.push_back(p.velocity_mm_s[i]);
   }
-  if (v.empty()) return 1.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
+  return v.empty() ? 1.0 : median(std::move(v));
 }
 
 // Stops on the way in (a protocol's pauses before the deepest point, in tissue): the tissue

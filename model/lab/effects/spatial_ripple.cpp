@@ -1,7 +1,6 @@
 #include "spatial_ripple.hpp"
 
 #include <algorithm>
-#include <cstdio>
 
 #include "effect_util.hpp"
 
@@ -55,16 +54,12 @@ bool SpatialRipple::identifiable(const EvidenceInput& fitted, std::string& why_n
     traversed_mm.push_back(hi - lo);
   }
   if (traversed_mm.empty()) return true;
-  auto middle = traversed_mm.begin() + static_cast<std::ptrdiff_t>(traversed_mm.size() / 2);
-  std::nth_element(traversed_mm.begin(), middle, traversed_mm.end());
+  const double median_mm = median(std::move(traversed_mm));
   const double period_mm = fitted.shared[0];
-  if (*middle >= kMinPeriodsSeen * period_mm) return true;
-  char text[240];
-  std::snprintf(text, sizeof text,
-                "its best period, %.2f mm, repeats only %.1f times over the %.1f mm the runs traverse (median run; "
-                "a ripple must be seen at least %.0f times): a smooth misfit of the baseline, not a ripple",
-                period_mm, *middle / period_mm, *middle, kMinPeriodsSeen);
-  why_not = text;
+  if (median_mm >= kMinPeriodsSeen * period_mm) return true;
+  why_not = format("its best period, %.2f mm, repeats only %.1f times over the %.1f mm the runs traverse (median run; "
+                   "a ripple must be seen at least %.0f times): a smooth misfit of the baseline, not a ripple",
+                   period_mm, median_mm / period_mm, median_mm, kMinPeriodsSeen);
   return false;
 }
 
