@@ -94,8 +94,8 @@ void add_iop_and_safety_fields(std::vector<ConfigField>& f) {
   f.push_back(number("iop.fault_after_ms", 1, 5000, "... for this long [ms] (a pump step is not a leak)", RIG_AT(loop.iop.fault_after_ms)));
   f.push_back(number("safety.force_limit_N", 0.01, 100, "load-cell protection [N]", RIG_AT(loop.safety.force_limit_N)));
   f.push_back(number("safety.link_lost_after_ms", 0.5, 1000, "time without a valid DAQ reply (on-time cycles) before link loss [ms]", RIG_AT(loop.safety.link_lost_after_ms)));
-  f.push_back(integer("safety.overrun_storm_count", 1, 64, "overruns ...", RIG_AT(loop.safety.overrun_storm_count)));
-  f.push_back(integer("safety.overrun_storm_window_cycles", 1, 100000, "... within this many cycles fault the loop", RIG_AT(loop.safety.overrun_storm_window_cycles)));
+  f.push_back(integer("safety.overrun_storm_missed_cycles", 1, 2000, "deadlines missed ...", RIG_AT(loop.safety.overrun_storm_missed_cycles)));
+  f.push_back(integer("safety.overrun_storm_window_cycles", 1, 2000, "... within this many deadlines fault the loop (overrun storm)", RIG_AT(loop.safety.overrun_storm_window_cycles)));
   f.push_back(number("safety.max_following_error_mm", 0.01, 50, "fault when the carriage lags its reference by more [mm]", RIG_AT(loop.safety.max_following_error_mm)));
   f.push_back(integer("safety.stuck_force_cycles", 2, 100000, "identical force readings while cutting = stuck sensor", RIG_AT(loop.safety.stuck_force_cycles)));
   f.push_back(integer("safety.max_failed_writes", 1, 1000, "output writes lost or garbled in a row (reads answered) before the run faults; a refused write faults at once",

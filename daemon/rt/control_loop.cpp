@@ -37,23 +37,30 @@ void ControlLoop::wait_and_cycle() noexcept {
   cycle(now, latency);
   next_deadline_ns_ += period_ns_;
   const std::int64_t after = hw_.clock->now_ns();
-  const bool overran = after > next_deadline_ns_;
-  if (overran) {
+  std::int64_t lost = 0;
+  if (after > next_deadline_ns_) {
     ch_->counters.overruns.fetch_add(1, std::memory_order_relaxed);
     // Skip the deadlines already lost instead of bursting to catch up.
-    const std::int64_t lost = (after - next_deadline_ns_) / period_ns_ + 1;
+    lost = (after - next_deadline_ns_) / period_ns_ + 1;
     ch_->counters.missed_cycles.fetch_add(static_cast<std::uint64_t>(lost), std::memory_order_relaxed);
     next_deadline_ns_ += lost * period_ns_;
   }
-  overrun_storm_ = note_overrun(overran);
+  overrun_storm_ = note_missed(lost);
 }
 
-bool ControlLoop::note_overrun(bool overran) noexcept {
-  const auto wanted = static_cast<std::size_t>(std::clamp(s_.safety.overrun_storm_count, 1, 64));
-  if (overran) overrun_cycles_[overrun_count_++ % overrun_cycles_.size()] = cycle_;
-  if (overrun_count_ < wanted) return false;
-  const std::uint64_t oldest = overrun_cycles_[(overrun_count_ - wanted) % overrun_cycles_.size()];
-  return cycle_ - oldest < static_cast<std::uint64_t>(s_.safety.overrun_storm_window_cycles);
+bool ControlLoop::note_missed(std::int64_t missed_deadlines) noexcept {
+  deadline_index_ += 1 + static_cast<std::uint64_t>(missed_deadlines);
+  const auto window = static_cast<std::uint64_t>(std::clamp(s_.safety.overrun_storm_window_cycles, 1, 2000));
+  if (missed_deadlines > 0) {
+    // Every overrun spans at least two deadlines (its own and one lost), so the ring holds every
+    // overrun of the longest window allowed; a full ring drops its oldest from the sum first.
+    if (overrun_count_ - oldest_overrun_ == overruns_.size()) missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
+    overruns_[overrun_count_++ % overruns_.size()] = {deadline_index_, missed_deadlines};
+    missed_in_window_ += missed_deadlines;
+  }
+  while (oldest_overrun_ < overrun_count_ && deadline_index_ - overruns_[oldest_overrun_ % overruns_.size()].deadline >= window)
+    missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
+  return missed_in_window_ >= std::clamp(s_.safety.overrun_storm_missed_cycles, 1, 2000);
 }
 
 void ControlLoop::run(const std::atomic<bool>& stop) noexcept {

@@ -53,7 +53,7 @@ class ControlLoop final : public EventSink {
   void note_write(drivers::IoStatus written, bool read_ok) noexcept;
   void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept;
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
-  bool note_overrun(bool overran) noexcept;
+  bool note_missed(std::int64_t missed_deadlines) noexcept;
   void shut_down() noexcept;
 
   LoopSettings s_;
@@ -80,8 +80,17 @@ class ControlLoop final : public EventSink {
   double velocity_mm_s_ = 0.0;
   drivers::AnalogFrame last_frame_{};
   drivers::DigitalInputs last_inputs_{};
-  std::array<std::uint64_t, 64> overrun_cycles_{};  // ring of recent overrun cycle numbers
-  std::size_t overrun_count_ = 0;
+  // Overruns within the storm window: the deadline index each one happened at and the deadlines
+  // it lost, oldest first, with their sum [periods] (no allocation: a fixed ring).
+  struct MissedDeadlines {
+    std::uint64_t deadline = 0;
+    std::int64_t missed = 0;
+  };
+  std::array<MissedDeadlines, 1024> overruns_{};
+  std::size_t overrun_count_ = 0;   // overruns ever noted (next slot)
+  std::size_t oldest_overrun_ = 0;  // the oldest still inside the window
+  std::int64_t missed_in_window_ = 0;
+  std::uint64_t deadline_index_ = 0;  // deadlines since the loop started, met or missed
   std::uint64_t last_command_id_ = 0;
   CommandResult last_command_result_ = CommandResult::kPending;
   std::array<StatusSnapshot::CommandAnswer, StatusSnapshot::kRecentAnswers> recent_answers_{};

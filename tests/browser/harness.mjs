@@ -72,6 +72,37 @@ export async function until(what, predicate, timeoutMs) {
   throw new Error(`timed out waiting for: ${what}`);
 }
 
+// The faults of the loop's timing that the simulated rig can have on a busy machine (the same
+// texts as daemon/cli/timing_fault.hpp): named ACCIDENTAL, reset and tried again, as the C++
+// harness does, so a slow VM's stall before a test's own subject is not that test's failure.
+export function isTimingFault(fault) {
+  fault = fault || "";
+  return fault.startsWith("DAQ link lost") || fault.startsWith("DAQ watchdog tripped") ||
+    fault.startsWith("loop overrun storm") || (fault.startsWith("DAQ write failed") && fault.includes("writes in a row lost"));
+}
+
+// Homes and tares the rig through `send(path)` (a POST from the page), at most four tries when a
+// timing fault of the simulated rig interrupts; any other fault fails the test.
+export async function homeAndTare(url, send) {
+  for (let attempt = 1; ; ++attempt) {
+    let faulted = "";
+    const step = async (path, what, done, timeoutMs) => {
+      await send(path);
+      await until(what, async () => {
+        const s = await status(url);
+        if (s.state === "Fault") { faulted = s.fault; return true; }
+        return done(s);
+      }, timeoutMs);
+      return !faulted;
+    };
+    if (await step("/api/home", "Ready after homing", s => s.state === "Ready", 60000) &&
+        await step("/api/tare", "tared", s => s.tared, 10000)) return;
+    if (!isTimingFault(faulted) || attempt >= 4) throw new Error(`the rig faulted while preparing: ${faulted}`);
+    console.log(`ACCIDENTAL | a timing fault while preparing, reset and retried: ${faulted}`);
+    await send("/api/reset");
+  }
+}
+
 // Writes one holding register of rig-sim's test panel (Modbus TCP, function 6, unit 1):
 // the fault injection of tests/integration/fault_matrix_test.cpp (proto sim_panel registers).
 export function simPanelWrite(port, register, value) {

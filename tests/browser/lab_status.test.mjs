@@ -7,7 +7,7 @@
 import { spawn } from "node:child_process";
 import net from "node:net";
 import { join } from "node:path";
-import { args, startRig, openPage, status, until, artifacts, test } from "./harness.mjs";
+import { args, startRig, openPage, status, until, artifacts, test, homeAndTare } from "./harness.mjs";
 
 const a = args();
 const shot = artifacts(a.artifacts);
@@ -38,10 +38,7 @@ await test("Browser.TheRigPanelShowsTheLabArchiveOutOfReachWithTheBacklogOfACutR
       (await page.isVisible("#lab-row")) && (await labText()).startsWith("NOT REACHABLE as rig-browser"), 15000);
     const reason = (await labText()).split(" — ")[1] || "";
     if (reason.length < 5) throw new Error(`no reason given: "${await labText()}"`);
-    await post(page, "/api/home", {});
-    await until("Ready after homing", async () => (await status(rig.url)).state === "Ready", 60000);
-    await post(page, "/api/tare", {});
-    await until("tared", async () => (await status(rig.url)).tared, 10000);
+    await homeAndTare(rig.url, path => post(page, path, {}));
     const run = await post(page, "/api/run", {eye_id: "LAB-OUT", iop_mmHg: 15, velocity_mm_s: 4, depth_mm: 6, hold_s: 0});
     if (run.status !== 200) throw new Error(`run refused: ${JSON.stringify(run.body)}`);
     await until("the cut done", async () => (await status(rig.url)).state === "Done", 40000);
@@ -93,10 +90,7 @@ await test("Browser.ThePickerShowsARunOfTheLabArchiveAsTheRigsOwnSampleForSample
     `lab_archive.rig_id="rig-picker"`, `lab_archive.sslmode="disable"`, "lab_archive.interval_ms=100"]);
   const {browser, page} = await openPage(rig.url);
   try {
-    await post(page, "/api/home", {});
-    await until("Ready after homing", async () => (await status(rig.url)).state === "Ready", 60000);
-    await post(page, "/api/tare", {});
-    await until("tared", async () => (await status(rig.url)).tared, 10000);
+    await homeAndTare(rig.url, path => post(page, path, {}));
     const run = await post(page, "/api/run", {eye_id: "LAB-PICK", iop_mmHg: 15, velocity_mm_s: 4, depth_mm: 6, hold_s: 0,
                                               meta: {eye_lot: "LOT-9"}});
     if (run.status !== 200) throw new Error(`run refused: ${JSON.stringify(run.body)}`);

@@ -3,7 +3,7 @@
 // puncture peak, the model) with no gap and no duplicate; an old run picked from the list is
 // shown the same way; a fault injected through rig-sim's test panel shows its reason in the
 // banner and the events, with the tripped chips red. Screenshots go to --artifacts.
-import { args, startRig, openPage, status, until, artifacts, test, simPanelWrite } from "./harness.mjs";
+import { args, startRig, openPage, status, until, artifacts, test, simPanelWrite, homeAndTare } from "./harness.mjs";
 
 const a = args();
 const shot = artifacts(a.artifacts);
@@ -56,10 +56,7 @@ await test("Browser.TheLiveTabShowsTheWholeRunOpenedMidCutOrAfterItAnOldRunAndAF
   const {browser, page} = await openPage(rig.url);
   try {
     if (await page.isVisible("#lab-row")) throw new Error("a lab archive row shown with [lab_archive] off");
-    await post(page, "/api/home", {});
-    await untilRig(rig.url, "Ready after homing", s => s.state === "Ready", 60000);
-    await post(page, "/api/tare", {});
-    await untilRig(rig.url, "tared", s => s.tared, 10000);
+    await homeAndTare(rig.url, path => post(page, path, {}));
     const cut = {eye_id: "MID-CUT", iop_mmHg: 15, velocity_mm_s: 4, depth_mm: 12, hold_s: 0, post_mortem_h: 2};
     const first = await post(page, "/api/run", cut);
     if (first.status !== 200) throw new Error(`run refused: ${JSON.stringify(first.body)}`);

@@ -33,7 +33,10 @@ class FuzzByteReader {
 
   // Up to 255 bytes as given: invalid UTF-8, NULs and control characters included.
   std::string bytes() {
-    const std::size_t length = std::min<std::size_t>(byte(), size_ - std::min(at_, size_));
+    // The length byte first: in one call's arguments, gcc may compute the room left before
+    // byte() has moved past it (read one byte beyond the input, found by fuzz_replay).
+    const std::size_t wanted = byte();
+    const std::size_t length = std::min<std::size_t>(wanted, size_ - std::min(at_, size_));
     std::string out(reinterpret_cast<const char*>(data_ + at_), length);
     at_ += length;
     return out;

@@ -356,7 +356,7 @@ TEST_F(FaultMatrixCustomRig, LoopOverrunStorm) {
   inject_and_check(
       [&](auto&) {
         std::thread([pid, &stop_storm] {
-          for (int i = 0; i < 400 && !stop_storm.load(); ++i) {
+          for (int i = 0; i < 1000 && !stop_storm.load(); ++i) {
             ::kill(pid, SIGSTOP);
             std::this_thread::sleep_for(std::chrono::milliseconds(3));
             ::kill(pid, SIGCONT);
@@ -366,7 +366,7 @@ TEST_F(FaultMatrixCustomRig, LoopOverrunStorm) {
         }).detach();
       },
       "Fault", "loop overrun storm", [&](auto&) { stop_storm.store(true); },
-      100.0 + 50.0);  // safety.overrun_storm_count (20) stops of 5 ms each
+      1000.0 + 100.0);  // 500 of the last 1000 deadlines missed (safety.overrun_storm_*): ~170 stops, 3 lost each
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
 }
 

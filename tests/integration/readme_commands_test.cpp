@@ -4,7 +4,7 @@
 // rig this test starts (RIG_API, RIG_ARCHIVE; PORT in a command is rig-sim's port).
 // Commands that run until Ctrl-C get one: `./rig demo` once it serves the overlay, benches
 // and haptic playback after a bounded time (they must still be running or have ended well).
-// Three are not run (`./rig test`, `./rig stress`, `./rig lint`: minutes to hours), each for a
+// Four are not run (`./rig test`, `./rig stress`, `./rig fuzz`, `./rig lint`: minutes to hours), each for a
 // stated reason, and the test checks what it can of them.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -117,6 +117,12 @@ class DocumentedCommands : public ::testing::Test {
     if (w[0] == "./rig" && sub == "stress") {
       // Not run: it is the load tier (about 30 min, label load). Its entry in the script is checked.
       EXPECT_EQ(testing::run_command("grep -q '^ *stress) shift; cmd_stress' " + testing::source("rig")).exit_code, 0) << where;
+      return;
+    }
+    if (w[0] == "./rig" && sub == "fuzz") {
+      // Not run: it builds a clang tree and fuzzes every target (minutes). Its entry is checked.
+      EXPECT_EQ(testing::run_command("grep -q '^ *fuzz) shift; cmd_fuzz' " + testing::source("rig")).exit_code, 0) << where;
+      EXPECT_EQ(testing::run_command("command -v clang++").exit_code, 0) << where;
       return;
     }
     if (w[0] == "./rig" && sub == "lint") {

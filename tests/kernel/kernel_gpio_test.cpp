@@ -121,7 +121,8 @@ TEST_F(GpioSim, TheLoopStopsTheMotorInTheCycleThatReadsTheEstop) {
   drivers::WallClockSimDaq daq;
   rt::LoopSettings settings = sim::loop_settings_for(daq.physics().params());
   settings.rate_hz = 200.0;  // QEMU's TCG is slow; the claim is per cycle, not per microsecond
-  settings.safety.overrun_storm_count = 1000;
+  settings.safety.overrun_storm_missed_cycles = 128;
+  settings.safety.overrun_storm_window_cycles = 1;
   rt::LoopChannels channels;
   rt::ControlLoop loop(settings, rt::LoopHardware{&daq, io.get(), &daq, &clock}, channels);
   std::atomic<bool> stop{false};

@@ -24,7 +24,7 @@ rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
   --set 'model.file="/etc/rig/paper-interpreted.toml"' --set 'api.web_root="/tmp"' \
   --set motion.surface_mm=12 --set motion.park_mm=10 --set motion.homing_velocity_mm_s=10 \
   --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
-  --set safety.max_failed_writes=400 --set daq.response_timeout_us=950 --set safety.overrun_storm_count=64 \
+  --set safety.max_failed_writes=400 --set daq.response_timeout_us=950 --set safety.overrun_storm_missed_cycles=128 \
   --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 \
   --set iop.settle_time_s=0.3 --set stream.udp_enabled=true --set stream.udp_port=9870 > /tmp/rigd.log 2>&1 &
 rigd=$!

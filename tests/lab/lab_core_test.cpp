@@ -1,4 +1,4 @@
-// The model lab's core on small data (label unit): honest cross-validation (a held-out run
+// The model lab's core on small data (label lab, release tree): honest cross-validation (a held-out run
 // never reaches its fold's fit), eyes that differ are not effects and raise the floor,
 // structure no candidate explains is called "unexplained" with where it lies, and run order
 // within a session is a covariate.

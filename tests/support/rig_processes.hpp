@@ -120,6 +120,17 @@ class RigProcesses {
     }
     return 0;
   }
+  // POST a command; refused because the DAQ's replies went missing for a moment at rest, it
+  // waits for the link and posts again, three times at most, printed as ACCIDENTAL.
+  cli::HttpReply post_when_linked(const std::string& path) const {
+    cli::HttpReply reply = api().post(path);
+    for (int retry = 0; retry < 3 && reply.status == 409 && reply.body.find("DAQ link is down") != std::string::npos; ++retry) {
+      std::printf("ACCIDENTAL | %s was refused while the DAQ link was down for a moment, posted again\n", path.c_str());
+      wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 5);
+      reply = api().post(path);
+    }
+    return reply;
+  }
   // POST /api/run; refused because the DAQ link is down for a moment at rest (a reply or two
   // missed on a busy machine: rigd does not arm without the link), it waits for the link and
   // posts again, three times at most, printed as ACCIDENTAL.
@@ -159,14 +170,14 @@ class RigProcesses {
     return 0;
   }
   bool home_and_tare(std::string& why) const {
-    api().post("/api/home");
+    post_when_linked("/api/home");
     nlohmann::json last;
     const auto settled = [&last](const nlohmann::json& s) {
       last = s;
       return s["state"] == "Ready" || s["state"] == "Fault" || s["state"] == "EStop";
     };
     if (!wait(settled, 60) || last["state"] != "Ready") return why = last.dump(), false;
-    api().post("/api/tare");
+    post_when_linked("/api/tare");
     if (!wait([](const nlohmann::json& s) { return s["tared"] == true; }, 10)) return why = status().dump(), false;
     return true;
   }

@@ -4,6 +4,7 @@
 // cannot hide a dead link past four times as many failed requests as the limit holds periods.
 // Virtual clock, whole loop.
 #include <gtest/gtest.h>
+#include <cmath>
 
 #include "simulated_rig.hpp"
 
@@ -96,6 +97,37 @@ TEST_F(LinkJudgement, ALoopLateAgainAndAgainStillFaultsADeadLinkAfterFourTimesAs
   EXPECT_EQ(cycles, 16) << "4 x 4 ms at 1 kHz";
   EXPECT_GE(st.fault_value, 4.0 * kLinkLostAfter_ms);
   EXPECT_LE(st.fault_value, 4.0 * kLinkLostAfter_ms + 2.0) << "late cycles still come about 1 ms apart";
+}
+
+TEST(LinkAtRest, ATareOrAHomingAskedWhileAReplyIsMissingIsTakenButNotWhileTheDaqIsSilent) {
+  rt::LoopSettings loop = sim::loop_settings_for(sim::PhysicsParams{});
+  loop.safety.link_lost_after_ms = 10.0;
+  sim::SimulatedRig rig{sim::PhysicsParams{}, {}, loop};
+  rig.command(CommandKind::kHome);
+  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+  rig.daq().inject(IoStatus::kTimeout);  // replies lost while the tare is asked
+  rig.advance(0.003);
+  EXPECT_EQ(rig.command(CommandKind::kTare), rt::CommandResult::kAccepted) << "a tare does not move the carriage";
+  rig.daq().inject(IoStatus::kOk);
+  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
+  rig.advance(0.01);  // the offset applies from the cycle after the tare ends
+  EXPECT_EQ(rig.status().state, RunState::kReady);
+  EXPECT_LT(std::abs(rig.status().force_N), 0.01) << "the tare took the resting load cell's reading [N]";
+  // Homing moves the carriage: a lone reply lost is no reason to refuse it, a silent DAQ is.
+  rig.daq().inject(IoStatus::kTimeout);
+  rig.advance(0.001);
+  rig.daq().inject(IoStatus::kOk);
+  rig.advance(0.001);
+  rig.daq().inject(IoStatus::kTimeout);
+  EXPECT_EQ(rig.command(CommandKind::kHome), rt::CommandResult::kAccepted) << "one reply missing";
+  rig.advance(0.005);
+  ASSERT_EQ(rig.status().state, RunState::kHoming);
+  rig.daq().inject(IoStatus::kOk);
+  rig.command(CommandKind::kStop);
+  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.state != RunState::kHoming; }, 5));
+  rig.daq().inject(IoStatus::kTimeout);
+  rig.advance(0.003);
+  EXPECT_EQ(rig.command(CommandKind::kHome), rt::CommandResult::kLinkDown) << "three replies in a row missing";
 }
 
 }  // namespace
