@@ -50,17 +50,16 @@ void ControlLoop::wait_and_cycle() noexcept {
 
 bool ControlLoop::note_missed(std::int64_t missed_deadlines) noexcept {
   deadline_index_ += 1 + static_cast<std::uint64_t>(missed_deadlines);
-  const auto window = static_cast<std::uint64_t>(std::clamp(s_.safety.overrun_storm_window_cycles, 1, 2000));
+  const auto window =
+      static_cast<std::uint64_t>(std::clamp(s_.safety.overrun_storm_window_cycles, 1, kMaxStormWindowDeadlines));
+  // The window's old overruns leave the sum before a new one takes a slot (see overruns_).
+  while (oldest_overrun_ < overrun_count_ && deadline_index_ - overruns_[oldest_overrun_ % overruns_.size()].deadline >= window)
+    missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
   if (missed_deadlines > 0) {
-    // Every overrun spans at least two deadlines (its own and one lost), so the ring holds every
-    // overrun of the longest window allowed; a full ring drops its oldest from the sum first.
-    if (overrun_count_ - oldest_overrun_ == overruns_.size()) missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
     overruns_[overrun_count_++ % overruns_.size()] = {deadline_index_, missed_deadlines};
     missed_in_window_ += missed_deadlines;
   }
-  while (oldest_overrun_ < overrun_count_ && deadline_index_ - overruns_[oldest_overrun_ % overruns_.size()].deadline >= window)
-    missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
-  return missed_in_window_ >= std::clamp(s_.safety.overrun_storm_missed_cycles, 1, 2000);
+  return missed_in_window_ >= std::clamp(s_.safety.overrun_storm_missed_cycles, 1, kMaxStormWindowDeadlines);
 }
 
 void ControlLoop::run(const std::atomic<bool>& stop) noexcept {

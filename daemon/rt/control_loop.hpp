@@ -86,7 +86,10 @@ class ControlLoop final : public EventSink {
     std::uint64_t deadline = 0;
     std::int64_t missed = 0;
   };
-  std::array<MissedDeadlines, 1024> overruns_{};
+  // Overruns are at least two deadlines apart (their own and one lost): the longest window
+  // allowed holds at most half as many, so the ring never overwrites one still in the window.
+  static constexpr int kMaxStormWindowDeadlines = 2000;
+  std::array<MissedDeadlines, kMaxStormWindowDeadlines / 2> overruns_{};
   std::size_t overrun_count_ = 0;   // overruns ever noted (next slot)
   std::size_t oldest_overrun_ = 0;  // the oldest still inside the window
   std::int64_t missed_in_window_ = 0;

@@ -120,29 +120,19 @@ class RigProcesses {
     }
     return 0;
   }
-  // POST a command; refused because the DAQ's replies went missing for a moment at rest, it
+  // POST a command (home, tare, run); refused because the DAQ's replies went missing for a moment
+  // at rest (a reply or two missed on a busy machine: rigd does not move without the link), it
   // waits for the link and posts again, three times at most, printed as ACCIDENTAL.
-  cli::HttpReply post_when_linked(const std::string& path) const {
-    cli::HttpReply reply = api().post(path);
+  cli::HttpReply post_when_linked(const std::string& path, const std::string& body = "") const {
+    cli::HttpReply reply = api().post(path, body);
     for (int retry = 0; retry < 3 && reply.status == 409 && reply.body.find("DAQ link is down") != std::string::npos; ++retry) {
       std::printf("ACCIDENTAL | %s was refused while the DAQ link was down for a moment, posted again\n", path.c_str());
       wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 5);
-      reply = api().post(path);
+      reply = api().post(path, body);
     }
     return reply;
   }
-  // POST /api/run; refused because the DAQ link is down for a moment at rest (a reply or two
-  // missed on a busy machine: rigd does not arm without the link), it waits for the link and
-  // posts again, three times at most, printed as ACCIDENTAL.
-  cli::HttpReply post_run(const std::string& run_body) const {
-    cli::HttpReply reply = api().post("/api/run", run_body);
-    for (int retry = 0; retry < 3 && reply.status == 409 && reply.body.find("DAQ link is down") != std::string::npos; ++retry) {
-      std::printf("ACCIDENTAL | the run was refused while the DAQ link was down for a moment, posted again\n");
-      wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 5);
-      reply = api().post("/api/run", run_body);
-    }
-    return reply;
-  }
+  cli::HttpReply post_run(const std::string& run_body) const { return post_when_linked("/api/run", run_body); }
   // A cut started and followed until `reached` holds (e.g. mid-cut, for a kill): a timing
   // fault of the simulated rig before that point is printed, reset and the cut started again,
   // three cuts at most. Returns the run's id, 0 with `why`.
