@@ -116,7 +116,11 @@ void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t l
 
 void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   in.t_s = static_cast<double>(now_ns - start_ns_) * 1e-9;
-  in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, 10.0 * period_ns_ * 1e-9);
+  // [s] the longest step the reference and timers take at once: the DAQ's watchdog plus a few
+  // periods of reply latency, at least 10 periods (see LoopSettings::daq_watchdog_ms). Busy
+  // VMs hold the loop 10-17 ms at a time; a 10-period cap lost ~1-3 % of the cut's velocity.
+  const double max_step_s = std::max(10.0 * period_ns_, s_.daq_watchdog_ms * 1e6 + 5.0 * period_ns_) * 1e-9;
+  in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, max_step_s);
   previous_now_ns_ = now_ns;
   drivers::AnalogFrame frame;
   drivers::DigitalInputs inputs;

@@ -73,6 +73,11 @@ struct SafetySettings {
 
 struct LoopSettings {
   double rate_hz = 1000.0;
+  // The DAQ's communication watchdog (daq.watchdog_ms) [ms]. Through a gap between two cycles
+  // shorter than this the DAQ kept driving the motor at the last command, so the constant-
+  // velocity reference follows the whole gap (wall time); after a longer one the DAQ has
+  // stopped the motor and the run faults ("DAQ watchdog tripped"), so a longer step is cut.
+  double daq_watchdog_ms = 5.0;
   Calibration calibration;
   MotionSettings motion;
   ControllerGains gains;

@@ -115,7 +115,9 @@ void RigdApp::start_gpio() {
 void RigdApp::start_loop() {
   parts_->channels = std::make_unique<rt::LoopChannels>();
   rt::LoopHardware hw{parts_->analog, parts_->digital, parts_->drive, &parts_->clock};
-  parts_->loop = std::make_unique<rt::ControlLoop>(config_.loop, hw, *parts_->channels);
+  rt::LoopSettings loop_settings = config_.loop;
+  loop_settings.daq_watchdog_ms = config_.daq.modbus.watchdog_ms;  // the USB DAQ is given the same
+  parts_->loop = std::make_unique<rt::ControlLoop>(loop_settings, hw, *parts_->channels);
   RtThreadReport memory = lock_process_memory(config_.thread.lock_memory);
   parts_->rt_report = memory;
   parts_->wake_latency = std::make_unique<drivers::CpuWakeLatencyRequest>(config_.thread.cpu_wake_latency_us);

@@ -199,14 +199,17 @@ TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReport
   // [s] 1 mm deep 2 s after the first frame, with room for a late first frame
   const SessionReport report = session.run(nullptr, nullptr, 3.0);
   EXPECT_TRUE(report.fault.empty()) << report.fault;
-  EXPECT_GT(report.ticks, 1500U);
+  // Every servo tick is one device frame of the scheduler's callback. How many there were in
+  // 3 s is a rate, measured in bench-haptic: under busy-machine an ASan build made 1,093.
+  const long frames = fake.symbol<long (*)()>("fake_hd_frames")();
+  EXPECT_GT(frames, 100);
+  EXPECT_NEAR(static_cast<double>(report.ticks), static_cast<double>(frames), 1.0);
   EXPECT_DOUBLE_EQ(report.force_limit_N, 0.6);
-  EXPECT_GT(fake.symbol<long (*)()>("fake_hd_frames")(), 1500);
   // 1 mm deep (after 2 s, the ramp-in long over): the model's toe and pre-cut, pushing the
   // stylus back out (+z). The mean over the frames 0.9-1.1 mm deep (~100 at 2 mm/s).
   const double at_1mm = fake.symbol<double (*)()>("fake_hd_force_at_1mm")();
   const double depth_mm = fake.symbol<double (*)()>("fake_hd_depth_at_1mm")();
-  EXPECT_GT(fake.symbol<long (*)()>("fake_hd_frames_at_1mm")(), 20);
+  EXPECT_GT(fake.symbol<long (*)()>("fake_hd_frames_at_1mm")(), 10);  // ~100 at the full rate
   EXPECT_NEAR(depth_mm, 1.0, 0.05);
   EXPECT_NEAR(at_1mm, model.baseline(depth_mm, 15.0), 0.01);
   EXPECT_GT(at_1mm, 0.0);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <vector>
 
 #include "simulated_rig.hpp"
 
@@ -63,6 +64,55 @@ TEST(ClosedLoop, ACutHoldsTwoMillimetresPerSecondAndPeaksWhereTheTissuePunctures
   EXPECT_NEAR(peak->position_mm - surface, x_pi, 0.1);
   EXPECT_GT(peak->force_N, 0.15);
   EXPECT_LT(peak->force_N, 0.40);
+}
+
+// A busy machine holds the loop off the CPU for 10-17 ms now and then (measured on a 2-core
+// CI VM under load). The DAQ keeps driving the motor through such a gap (its watchdog is
+// longer), so the reference must follow the whole gap: capped at 10 periods, the cut came
+// out 1-3 % slow.
+TEST(ClosedLoop, ACutKeepsItsVelocityThroughStallsShorterThanTheDaqWatchdog) {
+  const sim::PhysicsParams physics;
+  rt::LoopSettings settings = sim::loop_settings_for(physics);
+  settings.daq_watchdog_ms = 15.0;  // the simulated rig's config
+  sim::SimulatedRig rig(physics, {}, settings);
+  rig.physics().set_watchdog_ms(15);
+  rig.command(CommandKind::kHome);
+  ASSERT_TRUE(in_state(rig, RunState::kReady, 60.0));
+  rig.command(CommandKind::kTare);
+  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& st) { return st.tared; }, 5.0));
+  std::vector<rt::Sample> samples;
+  std::vector<rt::Event> events;
+  rig.drain(samples, events);
+  samples.clear();
+  rt::RunParams params;
+  params.run_id = 1;
+  params.velocity_mm_s = 2.0;
+  params.depth_mm = 10.0;
+  ASSERT_EQ(rig.command(CommandKind::kArm, params), CommandResult::kAccepted);
+  int stalls = 0;
+  for (int cycle = 0; cycle < 60000 && rig.status().state != RunState::kDone && rig.status().state != RunState::kFault; ++cycle) {
+    if (cycle % 40 == 0 && rig.status().state == RunState::kCutting) {
+      rig.clock().add_wakeup_delay(13'000'000);  // [ns] held off the CPU for 13 ms
+      ++stalls;
+    }
+    rig.loop().run_for(rig.loop().period_ns());
+    rig.drain(samples, events);
+  }
+  ASSERT_EQ(rig.status().state, RunState::kDone) << rt::to_string(rig.status().fault);
+  ASSERT_GT(stalls, 50);
+  const double surface = rig.physics().params().tissue.surface_mm;
+  const rt::Sample* first = nullptr;
+  const rt::Sample* last = nullptr;
+  for (const auto& s : samples) {
+    if (s.phase != rt::CutPhase::kInsert) continue;
+    const double depth = s.position_mm - surface;
+    if (depth > 0.5 && first == nullptr) first = &s;
+    if (depth < 9.5) last = &s;
+  }
+  ASSERT_NE(first, nullptr);
+  ASSERT_NE(last, nullptr);
+  const double velocity = (last->position_mm - first->position_mm) / (last->t_s - first->t_s);  // [mm/s]
+  EXPECT_NEAR(velocity, 2.0, 0.02);
 }
 
 TEST(ClosedLoop, TwoCommandsTakenInOneCycleAreEachAnsweredInTheStatus) {
