@@ -64,8 +64,21 @@ nlohmann::json wait_state(const ApiClient& api, const std::function<bool(const n
   throw std::runtime_error(what + ": no result within " + std::to_string(timeout_s) + " s");
 }
 
+// A moving command is refused while the loop's last 3 DAQ requests in a row went unanswered
+// ("DAQ link is down"); on a busy machine that lasts a few ms. The demo asks again for up to
+// 3 s before it gives the refusal as its answer (a link that stays down faults the rig).
+HttpReply post_when_linked(const ApiClient& api, const std::string& path, const std::string& body) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  HttpReply reply = api.post(path, body);
+  while (reply.status != 200 && reply.body.find("DAQ link is down") != std::string::npos && std::chrono::steady_clock::now() < end) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    reply = api.post(path, body);
+  }
+  return reply;
+}
+
 void command(const ApiClient& api, const std::string& name, const std::string& body = "") {
-  const HttpReply reply = api.post("/api/" + name, body);
+  const HttpReply reply = post_when_linked(api, "/api/" + name, body);
   if (reply.status != 200) throw std::runtime_error(name + " refused: " + reply.body);
 }
 
@@ -81,7 +94,7 @@ std::int64_t run_the_cut(const ApiClient& api, const DemoOptions& o, bool quiet)
   const nlohmann::json body = {{"eye_id", "DEMO-" + std::to_string(std::time(nullptr))}, {"iop_mmHg", o.iop_mmHg},
                                {"velocity_mm_s", o.velocity_mm_s}, {"depth_mm", o.depth_mm}, {"post_mortem_h", 2.0},
                                {"operator", "rig demo"}, {"meta", {{"specimen", "simulated ovine eye"}}}};
-  const HttpReply reply = api.post("/api/run", body.dump());
+  const HttpReply reply = post_when_linked(api, "/api/run", body.dump());
   if (reply.status != 200) throw std::runtime_error("run refused: " + reply.body);
   const std::int64_t run_id = nlohmann::json::parse(reply.body)["run_id"];
   wait_state(api, [](const nlohmann::json& s) { return s["state"] == "Done"; }, 120, "cut");

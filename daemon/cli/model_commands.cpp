@@ -157,7 +157,11 @@ int diagnose(const CliContext& c, const LabOptions& o) {
   std::cout << "\nverdict: " << d.verdict << "\n";
   if (d.verdict == "unexplained") {
     std::cout << "where: " << d.unexplained_where.summary() << "\n";
-    if (!d.partial_candidate.empty()) std::cout << "best partial candidate: " << d.partial_candidate << "\n";
+    if (!d.partial_candidate.empty()) {
+      // Two effects at once leave each one's error above the floor: the next step is the same.
+      std::cout << "best partial candidate: " << d.partial_candidate << " (with a second effect present, diagnose again --with "
+                << d.partial_candidate << ")\n";
+    }
   }
   for (const auto& w : d.warnings) std::cerr << "warning: " << w << "\n";
   return 0;

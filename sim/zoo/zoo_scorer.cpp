@@ -81,9 +81,14 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
     s.correct = s.verdict == draw.expected.front();
     return s;
   }
-  const auto first = std::find(draw.expected.begin(), draw.expected.end(), d.verdict);
-  if (first == draw.expected.end()) return s;
-  options.with = {d.verdict};
+  // Two effects at once: the first round names one of them, or (its error still well above
+  // the floor while the other is missing) says `unexplained` with it as the best partial
+  // candidate; the user diagnoses again --with it, as `rig model diagnose` tells them to.
+  const std::string& named = d.verdict == "unexplained" ? d.partial_candidate : d.verdict;
+  s.first_named = named;
+  const auto first = std::find(draw.expected.begin(), draw.expected.end(), named);
+  if (named.empty() || first == draw.expected.end()) return s;
+  options.with = {named};
   const model::Diagnosis again = model::diagnose(paper, draw.runs, options);
   s.diagnose_s = seconds_since(start);
   s.second_verdict = again.verdict;
@@ -135,7 +140,7 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
       const bool named = s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
       std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
                    static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
-                   s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then " + s.second_verdict + " ").c_str(),
+                   s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then --with " + s.first_named + ": " + s.second_verdict + " ").c_str(),
                    s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
                    s.generate_s, s.diagnose_s);
       std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",

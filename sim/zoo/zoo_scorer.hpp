@@ -23,7 +23,8 @@ struct DrawScore {
   double magnitude_noise = 0.0;   // x the white noise alone (the stricter scale)
   double true_floor_N = 0.0;      // the simulator's floor [N]
   std::string verdict;            // first round
-  std::string second_verdict;     // mixtures: with the first round's verdict in the base
+  std::string first_named;        // mixtures: the first round's verdict, or its partial candidate
+  std::string second_verdict;     // mixtures: with first_named in the base
   bool correct = false;           // the verdict (both, for mixtures) is what was expected
   double baseline_N = 0.0, floor_N = 0.0, after_N = 0.0;  // CV RMSE before/after the verdict, floor
   bool fit_close = false;         // after <= floor + 25 % of (baseline - floor)

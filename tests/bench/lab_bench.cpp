@@ -73,9 +73,15 @@ void diagnose_timing(int runs, int threads, const std::string& effect, int repea
               d.baseline_cv_rmse_N, d.candidates.front().effect.c_str(), d.candidates.front().cv_rmse_N, d.noise_floor_N);
 }
 
-rig::zoo::ZooOptions zoo_options(bool clean_only) {
+// Draws of one kind only (clean, catalogue, law, outside, mixture), or all kinds (empty).
+rig::zoo::ZooOptions zoo_options(const std::string& only) {
   rig::zoo::ZooOptions o;
-  if (clean_only) o.catalogue_share = o.zoo_law_share = o.out_of_catalogue_share = o.mixture_share = 0.0;
+  if (only.empty()) return o;
+  double* shares[] = {&o.clean_share, &o.catalogue_share, &o.zoo_law_share, &o.out_of_catalogue_share, &o.mixture_share};
+  const char* names[] = {"clean", "catalogue", "law", "outside", "mixture"};
+  for (int k = 0; k < 5; ++k) {
+    if (only != names[k]) *shares[k] = 0.0;
+  }
   return o;
 }
 
@@ -110,6 +116,8 @@ int main(int argc, char** argv) {
   app.add_flag("--verbose", zoo.verbose, "two lines per draw on stderr, and the table so far every 10 draws");
   app.add_flag("--no-zoo", no_zoo, "skip the zoo");
   app.add_flag("--clean-only", clean_only, "effect-free draws only (to calibrate the false-alarm bars on tuning seeds)");
+  std::string only;
+  app.add_option("--only", only, "draws of one kind only")->check(CLI::IsMember({"clean", "catalogue", "law", "outside", "mixture"}));
   app.add_option("--threads", zoo.threads, "diagnose's worker threads")->check(CLI::Range(1, 64));
   app.add_flag("--timing", timing, "diagnose time as the median of 3 passes (the 30 s benchmark)");
   app.add_flag("--no-timing", no_timing, "skip the diagnose time");
@@ -117,10 +125,10 @@ int main(int argc, char** argv) {
   app.add_option("--effect", effect, "hidden effect of the diagnose-time runs (empty: clean)");
   app.add_option("--save-runs", save_dir, "write each draw's runs as run-CSV files into DIR/SEED/ (for `rig model diagnose`), no scoring");
   CLI11_PARSE(app, argc, argv);
-  if (!save_dir.empty()) return save_draws(rig::zoo::ZooGenerator{zoo_options(clean_only)}, zoo, save_dir);
+  if (!save_dir.empty()) return save_draws(rig::zoo::ZooGenerator{zoo_options(clean_only ? std::string("clean") : only)}, zoo, save_dir);
   if (!no_zoo) {
     const auto start = std::chrono::steady_clock::now();
-    const rig::zoo::ZooScore score = rig::zoo::score_zoo(rig::zoo::ZooGenerator{zoo_options(clean_only)}, zoo);
+    const rig::zoo::ZooScore score = rig::zoo::score_zoo(rig::zoo::ZooGenerator{zoo_options(clean_only ? std::string("clean") : only)}, zoo);
     rig::zoo::print_score(score, stdout);
     std::printf("  (seeds %llu..%llu, %.0f s in all)\n", static_cast<unsigned long long>(zoo.first_seed),
                 static_cast<unsigned long long>(zoo.first_seed + static_cast<std::uint64_t>(zoo.draws) - 1),

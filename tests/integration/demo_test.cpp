@@ -39,14 +39,18 @@ TEST(Demo, OnceAsJsonCutsTwoThousandSamplesPerMillimetreAndFindsThePeakWhereTheT
 
 // The demo's answer to a timing fault of the simulated rig (issue 13: rigd's loop and the
 // simulated DAQ share a busy machine's CPUs): it names the fault, resets and cuts again. The
-// fault is made on purpose: a stand-in for rig-sim execs the real one and, 1.5 s after it
-// listens (while homing), has mbpoll set the simulator's link-drop register (50 ms).
+// fault is made on purpose: a stand-in for rig-sim execs the real one and, as soon as the
+// motor is powered (homing; polled from the simulator's truth registers, not after a fixed
+// time: a loaded machine starts rigd late), has mbpoll set the link-drop register (50 ms).
 TEST(Demo, ATimingFaultOfTheSimulatedRigIsNamedAndTheCutIsMadeAgain) {
   testing::ScratchDir dir("demo-timing-fault");
   const std::string port_file = dir.file("sim.port"), wrapper = dir.file("rig-sim-with-a-link-drop");
   std::ofstream(wrapper) << "#!/bin/sh\n"
-                         << "( while [ ! -s '" << port_file << "' ]; do sleep 0.05; done; sleep 1.5;\n"
-                         << "  mbpoll -m tcp -p \"$(cat '" << port_file << "')\" -a 1 -r " << proto::daq::sim_panel::kLinkDrop + 1
+                         << "( while [ ! -s '" << port_file << "' ]; do sleep 0.05; done; port=\"$(cat '" << port_file << "')\"\n"
+                         << "  until mbpoll -m tcp -p \"$port\" -a 1 -r " << proto::daq::sim_truth::kMotorPowered + 1
+                         << " -t 3 -1 127.0.0.1 2>/dev/null | grep -q '^\\[" << proto::daq::sim_truth::kMotorPowered + 1
+                         << "\\]:[[:space:]]*1'; do sleep 0.1; done\n"
+                         << "  mbpoll -m tcp -p \"$port\" -a 1 -r " << proto::daq::sim_panel::kLinkDrop + 1
                          << " -t 4 -1 127.0.0.1 5 >/dev/null 2>&1 ) &\n"
                          << "exec '" << testing::bin("rig-sim") << "' --port-file '" << port_file << "' \"$@\"\n";
   std::filesystem::permissions(wrapper, std::filesystem::perms::owner_all);

@@ -12,14 +12,17 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "command.hpp"
 #include "documented_commands.hpp"
+#include "pg_test_server.hpp"
 #include "rig_processes.hpp"
 
 namespace rig {
@@ -81,17 +84,30 @@ std::vector<std::string> words(const std::string& text) {
   return w;
 }
 
+// A usage line, not a command: it shows placeholders (PATH..., [--with E1,E2], FILE, DIR).
+bool is_synopsis(const std::vector<std::string>& w) {
+  static const std::regex kPlaceholder(R"([A-Z]{3,}|.*\.\.\..*|\[.*)");
+  for (std::size_t k = 1; k < w.size(); ++k) {
+    if (w[k] != "PORT" && std::regex_match(w[k], kPlaceholder)) return true;
+  }
+  return false;
+}
+
 class DocumentedCommands : public ::testing::Test {
  protected:
   void SetUp() override {
     // ./rig looks for its release tree under RIG_BUILD_DIR: this build tree, as it is.
     std::filesystem::create_directories(dir_.file("build"));
     std::filesystem::create_symlink(std::filesystem::path(RIG_TEST_BIN_DIR).parent_path(), dir_.file("build/release"));
+    // Commands run in the scratch folder as if it were the checkout (what they write stays
+    // there): the checkout's model and config files are where the docs say they are.
+    for (const char* folder : {"model", "config"}) std::filesystem::create_symlink(testing::source(folder), dir_.file(folder));
   }
 
   std::string environment() const {
     std::string env = "RIG_BUILD_DIR=" + dir_.file("build") + " RIG_SKIP_SETUP=1 PATH=" + std::string(RIG_TEST_BIN_DIR) + ":$PATH";
     if (rig_) env += " RIG_API=" + rig_->url() + " RIG_ARCHIVE=" + rig_->archive_path();
+    if (pg_) env += " PGPORT=" + std::to_string(pg_->port());  // the docs' "host=localhost" on the test's server
     return env;
   }
 
@@ -101,6 +117,9 @@ class DocumentedCommands : public ::testing::Test {
     if (line.rfind("./rig", 0) == 0) line = testing::source("rig") + line.substr(5);
     const auto port = line.find(" PORT ");
     if (port != std::string::npos && rig_) line.replace(port, 6, " " + std::to_string(rig_->sim_port()) + " ");
+    // A rig's password file (docs/lab-archive.md makes it under /etc): the test's own copy.
+    const std::string etc_password = "/etc/rigd/lab-archive.password";
+    if (const auto at = line.find(etc_password); at != std::string::npos) line.replace(at, etc_password.size(), dir_.file("lab-archive.password"));
     return "env " + environment() + " " + line;
   }
 
@@ -130,9 +149,21 @@ class DocumentedCommands : public ::testing::Test {
       EXPECT_EQ(testing::run_command("command -v clang-format && command -v clang-tidy").exit_code, 0) << where;
       return;
     }
+    if (is_synopsis(w)) return check_synopsis(w, where);
+    if (c.text.size() > 2 && c.text.compare(c.text.size() - 2, 2, " &") == 0) return start_in_background(c.text.substr(0, c.text.size() - 2), where);
+    if (c.text.find("--device phantom") != std::string::npos) {
+      // Needs a Phantom and OpenHaptics' libHD, which no test machine has: it must refuse
+      // clearly and point to the simulated device.
+      const Finished f = run_in_shell(shell_line(c.text), dir_.path().string(), 60);
+      EXPECT_NE(f.exit_code, 0) << where;
+      EXPECT_NE(f.err.find("--device sim"), std::string::npos) << where << "\n" << f.err;
+      return;
+    }
     const bool until_overlay = sub == "demo" && c.text.find("--once") == std::string::npos;
-    const bool bounded = sub == "bench" || sub == "haptic";
-    const Finished f = run_in_shell(shell_line(c.text), dir_.path().string(), until_overlay ? 300 : (bounded ? 4 : 240),
+    // Benches and haptic sessions run for a bounded time, except one that writes what the
+    // next line reads (--save-runs).
+    const bool bounded = (sub == "bench" || sub == "haptic") && c.text.find("--save-runs") == std::string::npos;
+    const Finished f = run_in_shell(shell_line(c.text), dir_.path().string(), until_overlay ? 300 : (bounded ? 2 : 240),
                                     until_overlay ? "live overlay at" : "");
     if (bounded && f.timed_out) return;  // ran its bounded time without failing
     EXPECT_FALSE(f.timed_out) << where << " did not finish\n" << f.err;
@@ -142,15 +173,74 @@ class DocumentedCommands : public ::testing::Test {
     }
   }
 
-  void run_all_of(const std::string& document) {
-    const auto commands = testing::documented_commands(testing::source(document), document);
-    ASSERT_FALSE(commands.empty()) << document;
-    rig_ = std::make_unique<testing::RigProcesses>(dir_);
-    for (const auto& c : commands) run_documented(c);
+  // A usage line: its command's --help must list every option the line shows.
+  void check_synopsis(const std::vector<std::string>& w, const std::string& where) {
+    static const std::regex kWord("[a-z][a-z-]*");
+    std::string command = w[0];
+    for (std::size_t k = 1; k < w.size() && std::regex_match(w[k], kWord); ++k) command += " " + w[k];
+    const Finished f = run_in_shell(shell_line(command + " --help"), dir_.path().string(), 60);
+    ASSERT_EQ(f.exit_code, 0) << where << "\n" << f.err;
+    static const std::regex kOption(R"(--[a-z][a-z-]*)");
+    for (const std::string& word : w) {
+      std::smatch option;
+      if (std::regex_search(word, option, kOption)) {
+        EXPECT_NE(f.out.find(option.str()), std::string::npos) << where << ": `" << command << " --help` has no " << option.str();
+      }
+    }
   }
+
+  // A line ending in `&` starts what the next lines use (a socat pty pair, rig-sim on it): it
+  // runs in the background until the document ends, and is ready once it printed its first
+  // line or made the `link=` paths it names.
+  void start_in_background(const std::string& text, const std::string& where) {
+    const std::string log = dir_.file("background-" + std::to_string(background_.size()) + ".log");
+    const pid_t pid = fork();
+    if (pid == 0) {
+      setpgid(0, 0);
+      if (chdir(dir_.path().c_str()) != 0) _exit(126);
+      execl("/bin/sh", "sh", "-c", ("exec " + shell_line(text) + " >" + log + " 2>&1").c_str(), static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    setpgid(pid, pid);
+    background_.push_back(pid);
+    std::vector<std::string> links;
+    static const std::regex kLink(R"(link=\$PWD/([A-Za-z0-9_.-]+))");
+    for (std::sregex_iterator it(text.begin(), text.end(), kLink), end; it != end; ++it) links.push_back(dir_.file((*it)[1]));
+    for (int i = 0; i < 300; ++i) {
+      bool ready = links.empty() ? !slurp(log).empty() : true;
+      for (const std::string& link : links) ready = ready && std::filesystem::exists(link);
+      int status = 0;
+      ASSERT_EQ(waitpid(pid, &status, WNOHANG), 0) << where << " ended at once:\n" << slurp(log);
+      if (ready) return;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    FAIL() << where << " was not ready within 30 s:\n" << slurp(log);
+  }
+
+  void stop_background() {
+    for (const pid_t pid : background_) {
+      ::kill(-pid, SIGINT);
+      for (int i = 0; i < 50 && waitpid(pid, nullptr, WNOHANG) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      ::kill(-pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+    background_.clear();
+  }
+
+  void run_all_of(const std::string& document, const std::string& also = "") {
+    const auto commands = testing::documented_commands(testing::source(document), document, also);
+    ASSERT_FALSE(commands.empty()) << document;
+    if (!rig_) rig_ = std::make_unique<testing::RigProcesses>(dir_);
+    for (const auto& c : commands) run_documented(c);
+    stop_background();
+  }
+
+  void TearDown() override { stop_background(); }
 
   testing::ScratchDir dir_{"documented-commands"};
   std::unique_ptr<testing::RigProcesses> rig_;
+  std::unique_ptr<testing::PgTestServer> pg_;
+  std::vector<pid_t> background_;
 };
 
 TEST(DocumentedCommandList, HoldsTheReadmesDemoLinesAndOneCommandPerLine) {
@@ -168,6 +258,43 @@ TEST(DocumentedCommandList, HoldsTheReadmesDemoLinesAndOneCommandPerLine) {
 TEST_F(DocumentedCommands, EveryCommandLineOfTheReadmeRunsAsWritten) { run_all_of("README.md"); }
 
 TEST_F(DocumentedCommands, EveryCommandLineOfTheTechnicianGuideRunsAsWritten) { run_all_of("docs/technician-guide.md"); }
+
+// The other documents, in file order, against what they assume is there: a rig with three
+// runs in its archive (docs/haptics.md plays run 3), and a lab's PostgreSQL at localhost set
+// up with the SQL of docs/lab-archive.md (a throwaway server; PGPORT points libpq at it).
+// What docs/ write under /tmp is removed first, so each run starts from nothing.
+TEST_F(DocumentedCommands, EveryCommandLineOfTheOtherDocsRunsAsWrittenOrShowsItsOptionsInHelp) {
+  for (const char* path : {"/tmp/lab-demo.sqlite", "/tmp/lab-demo-runs", "/tmp/lab-export", "/tmp/zoo-draws", "/tmp/runs", "/tmp/fit.html"}) {
+    std::filesystem::remove_all(path);
+  }
+  pg_ = std::make_unique<testing::PgTestServer>();
+  static const std::regex kSql(R"re(runuser -u postgres -- psql -c "(CREATE ROLE [^"]*|GRANT [^"]*)")re");
+  int statements = 0;
+  std::ifstream lab_doc(testing::source("docs/lab-archive.md"));
+  for (std::string line; std::getline(lab_doc, line);) {
+    std::smatch sql;
+    if (std::regex_search(line, sql, kSql)) pg_->psql("postgres", sql[1].str()), ++statements;
+  }
+  ASSERT_EQ(statements, 3) << "docs/lab-archive.md: the two roles and the reader's grant";
+  pg_->psql("postgres", "ALTER DATABASE lab OWNER TO rig_writer");  // the doc's `createdb -O rig_writer lab`
+  std::ofstream(dir_.file("lab-archive.password")) << "change-me-writer\n";
+  std::filesystem::permissions(dir_.file("lab-archive.password"), std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  rig_ = std::make_unique<testing::RigProcesses>(dir_);
+  const std::string rig = testing::bin("rig"), runs = dir_.file("runs");
+  ASSERT_EQ(testing::run_command(rig + " sim generate --out " + runs + " --iops 15,16,17 --velocities 2 --depth 6").exit_code, 0);
+  std::string files;
+  for (const auto& f : std::filesystem::directory_iterator(runs)) files += " " + f.path().string();
+  const auto imported = testing::run_command(rig + " --archive " + rig_->archive_path() + " import" + files);
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  std::vector<std::string> documents;
+  for (const auto& f : std::filesystem::directory_iterator(testing::source("docs"))) {
+    if (f.path().extension() == ".md" && f.path().filename() != "technician-guide.md") documents.push_back("docs/" + f.path().filename().string());
+  }
+  std::sort(documents.begin(), documents.end());
+  for (const std::string& document : documents) {
+    if (!testing::documented_commands(testing::source(document), document, "socat|mkdir").empty()) run_all_of(document, "socat|mkdir");
+  }
+}
 
 }  // namespace
 }  // namespace rig

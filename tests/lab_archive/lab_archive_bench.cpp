@@ -4,12 +4,16 @@
 // (local commit -> on the server), the server's CPU, the drain rate of a backlog (headroom),
 // and the time of `rig model diagnose` over the same runs from PostgreSQL and from SQLite.
 #include <CLI/CLI.hpp>
+#include <signal.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <thread>
 
 #include "command.hpp"
 #include "lab_replicator.hpp"
@@ -161,6 +165,24 @@ void streaming_phase(const Options& o, rig::testing::PgTestServer& server, const
 
 int diagnose_phase(int runs, rig::testing::PgTestServer& server, const rig::testing::ScratchDir& dir);  // lab_archive_bench_diagnose.cpp
 
+// Ctrl-C (or a stop) must not leave the throwaway server running: the signals are taken by
+// one thread, which stops the server and removes its files and the scratch folder.
+void stop_server_on_interrupt(rig::testing::PgTestServer& server, const rig::testing::ScratchDir& dir, const sigset_t& signals) {
+  std::thread([&server, &dir, signals] {
+    int signal_number = 0;
+    if (sigwait(&signals, &signal_number) != 0) return;
+    std::fprintf(stderr, "bench-lab-archive: interrupted: stopping the throwaway PostgreSQL\n");
+    try {
+      server.stop("immediate");
+    } catch (const std::exception&) {  // already down: its files still go
+    }
+    std::error_code ignored;
+    std::filesystem::remove_all(server.dir(), ignored);
+    std::filesystem::remove_all(dir.path(), ignored);
+    _exit(128 + signal_number);
+  }).detach();
+}
+
 int main(int argc, char** argv) {
   CLI::App app{"lab archive throughput, replication lag and server CPU on one PostgreSQL (docs/lab-archive.md)"};
   Options o;
@@ -170,9 +192,15 @@ int main(int argc, char** argv) {
   app.add_option("--backlog", o.backlog_samples, "samples per rig for the drain phase")->check(CLI::Range(1000, 10000000));
   app.add_option("--diagnose-runs", o.diagnose_runs, "runs for diagnose from PostgreSQL vs SQLite (0: skip)")->check(CLI::Range(0, 100000));
   CLI11_PARSE(app, argc, argv);
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);  // before any thread starts: every one inherits it
   try {
     rig::testing::ScratchDir dir("bench-lab-archive");
     rig::testing::PgTestServer server(true);  // fsync on, as a lab's server
+    stop_server_on_interrupt(server, dir, signals);
     streaming_phase(o, server, dir);
     return o.diagnose_runs > 0 ? diagnose_phase(o.diagnose_runs, server, dir) : 0;
   } catch (const std::exception& e) {

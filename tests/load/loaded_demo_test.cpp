@@ -117,6 +117,7 @@ TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWitho
   }
   std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n", 2 * kRounds, completed, faults.size());
   for (const auto& f : faults) std::printf("LOAD-FAULT | %s\n", f.c_str());
+  std::fflush(stdout);
   EXPECT_EQ(completed, 2 * kRounds);
   EXPECT_TRUE(faults.empty());
 }

@@ -16,9 +16,10 @@ struct DocumentedCommand {
   std::string text;
 };
 
-inline bool is_command_of_ours(const std::string& text) {
-  static const std::regex kProgram(R"(^(\./rig|rig|rigd|rig-sim|mbpoll)( |$))");
-  return std::regex_search(text, kProgram);
+// `also`: more programs, e.g. "socat|mkdir" where a block prepares what the next lines use.
+inline bool is_command_of_ours(const std::string& text, const std::string& also = "") {
+  const std::regex program("^(\\./rig|rig|rigd|rig-sim|mbpoll" + (also.empty() ? "" : "|" + also) + ")( |$)");
+  return std::regex_search(text, program);
 }
 
 inline std::string without_comment(const std::string& text) {
@@ -26,13 +27,14 @@ inline std::string without_comment(const std::string& text) {
   return std::regex_replace(text, kComment, "");
 }
 
-inline std::vector<DocumentedCommand> documented_commands(const std::string& path, const std::string& name) {
+inline std::vector<DocumentedCommand> documented_commands(const std::string& path, const std::string& name,
+                                                          const std::string& also = "") {
   std::ifstream in(path);
   std::vector<DocumentedCommand> found;
   std::set<std::string> seen;
   auto add = [&](int line, std::string text) {
     while (!text.empty() && text.back() == ' ') text.pop_back();
-    if (is_command_of_ours(text) && seen.insert(text).second) found.push_back({name, line, text});
+    if (is_command_of_ours(text, also) && seen.insert(text).second) found.push_back({name, line, text});
   };
   static const std::regex kInline(R"(`(\./rig [^`<]*)`)");
   std::string line, pending;
