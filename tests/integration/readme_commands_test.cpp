@@ -194,11 +194,12 @@ class DocumentedCommands : public ::testing::Test {
   // line or made the `link=` paths it names.
   void start_in_background(const std::string& text, const std::string& where) {
     const std::string log = dir_.file("background-" + std::to_string(background_.size()) + ".log");
+    const std::string script = "exec " + shell_line(text) + " >" + log + " 2>&1";  // built before fork: no allocation in the child
     const pid_t pid = fork();
     if (pid == 0) {
       setpgid(0, 0);
       if (chdir(dir_.path().c_str()) != 0) _exit(126);
-      execl("/bin/sh", "sh", "-c", ("exec " + shell_line(text) + " >" + log + " 2>&1").c_str(), static_cast<char*>(nullptr));
+      execl("/bin/sh", "sh", "-c", script.c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
     setpgid(pid, pid);
