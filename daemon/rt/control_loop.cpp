@@ -13,7 +13,8 @@ ControlLoop::ControlLoop(const LoopSettings& settings, const LoopHardware& hardw
       machine_(settings, *this),
       interlocks_(settings),
       controller_(settings.gains),
-      period_ns_(static_cast<std::int64_t>(std::llround(1e9 / settings.rate_hz))) {}
+      period_ns_(static_cast<std::int64_t>(std::llround(1e9 / settings.rate_hz))),
+      max_step_s_(std::max(10.0 * static_cast<double>(period_ns_), settings.daq_watchdog_ms * 1e6 + 5.0 * static_cast<double>(period_ns_)) * 1e-9) {}
 
 void ControlLoop::emit(const Event& event) noexcept {
   if (!ch_->recorder_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
@@ -116,11 +117,8 @@ void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t l
 
 void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   in.t_s = static_cast<double>(now_ns - start_ns_) * 1e-9;
-  // [s] the longest step the reference and timers take at once: the DAQ's watchdog plus a few
-  // periods of reply latency, at least 10 periods (see LoopSettings::daq_watchdog_ms). Busy
-  // VMs hold the loop 10-17 ms at a time; a 10-period cap lost ~1-3 % of the cut's velocity.
-  const double max_step_s = std::max(10.0 * period_ns_, s_.daq_watchdog_ms * 1e6 + 5.0 * period_ns_) * 1e-9;
-  in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, max_step_s);
+  // Busy VMs hold the loop 10-17 ms at a time; a 10-period cap lost ~1-3 % of the cut's velocity.
+  in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, max_step_s_);
   previous_now_ns_ = now_ns;
   drivers::AnalogFrame frame;
   drivers::DigitalInputs inputs;

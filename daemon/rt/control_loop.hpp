@@ -63,6 +63,9 @@ class ControlLoop final : public EventSink {
   Interlocks interlocks_;
   VelocityController controller_;
   std::int64_t period_ns_;
+  // [s] the longest step the reference and timers take at once: the DAQ's watchdog plus a few
+  // periods of reply latency, at least 10 periods (see LoopSettings::daq_watchdog_ms).
+  double max_step_s_;
   std::int64_t start_ns_ = 0;
   std::int64_t next_deadline_ns_ = 0;
   std::int64_t previous_now_ns_ = 0;

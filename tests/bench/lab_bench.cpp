@@ -125,10 +125,11 @@ int main(int argc, char** argv) {
   app.add_option("--effect", effect, "hidden effect of the diagnose-time runs (empty: clean)");
   app.add_option("--save-runs", save_dir, "write each draw's runs as run-CSV files into DIR/SEED/ (for `rig model diagnose`), no scoring");
   CLI11_PARSE(app, argc, argv);
-  if (!save_dir.empty()) return save_draws(rig::zoo::ZooGenerator{zoo_options(clean_only ? std::string("clean") : only)}, zoo, save_dir);
+  if (clean_only) only = "clean";
+  if (!save_dir.empty()) return save_draws(rig::zoo::ZooGenerator{zoo_options(only)}, zoo, save_dir);
   if (!no_zoo) {
     const auto start = std::chrono::steady_clock::now();
-    const rig::zoo::ZooScore score = rig::zoo::score_zoo(rig::zoo::ZooGenerator{zoo_options(clean_only ? std::string("clean") : only)}, zoo);
+    const rig::zoo::ZooScore score = rig::zoo::score_zoo(rig::zoo::ZooGenerator{zoo_options(only)}, zoo);
     rig::zoo::print_score(score, stdout);
     std::printf("  (seeds %llu..%llu, %.0f s in all)\n", static_cast<unsigned long long>(zoo.first_seed),
                 static_cast<unsigned long long>(zoo.first_seed + static_cast<std::uint64_t>(zoo.draws) - 1),

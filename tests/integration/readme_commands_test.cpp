@@ -43,19 +43,27 @@ std::string slurp(const std::string& path) {
   return text.str();
 }
 
-// Runs `command` with sh in its own process group, as a terminal would. Ends it with Ctrl-C
-// (SIGINT to the group) when `ready_text` shows on stderr or after `bound_s`.
-Finished run_in_shell(const std::string& command, const std::string& dir, double bound_s, const std::string& ready_text = "") {
-  const std::string out = dir + "/cmd.out", err = dir + "/cmd.err";
+// Starts `command` with sh in `dir`, in its own process group as a terminal would, its output
+// redirected as `redirect` says. exec: the command itself, not a shell waiting for it, gets
+// the Ctrl-C and gives the status. The script is built before fork: no allocation in the child.
+pid_t spawn_in_group(const std::string& command, const std::string& dir, const std::string& redirect) {
+  const std::string script = "exec " + command + " " + redirect;
   const pid_t pid = fork();
   if (pid == 0) {
     setpgid(0, 0);
     if (chdir(dir.c_str()) != 0) _exit(126);
-    // exec: the command itself, not a shell waiting for it, gets the Ctrl-C and gives the status.
-    execl("/bin/sh", "sh", "-c", ("exec " + command + " >" + out + " 2>" + err).c_str(), static_cast<char*>(nullptr));
+    execl("/bin/sh", "sh", "-c", script.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   setpgid(pid, pid);
+  return pid;
+}
+
+// Runs `command` (spawn_in_group). Ends it with Ctrl-C (SIGINT to the group) when
+// `ready_text` shows on stderr or after `bound_s`.
+Finished run_in_shell(const std::string& command, const std::string& dir, double bound_s, const std::string& ready_text = "") {
+  const std::string out = dir + "/cmd.out", err = dir + "/cmd.err";
+  const pid_t pid = spawn_in_group(command, dir, ">" + out + " 2>" + err);
   Finished f;
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(bound_s);
   int status = 0;
@@ -194,15 +202,7 @@ class DocumentedCommands : public ::testing::Test {
   // line or made the `link=` paths it names.
   void start_in_background(const std::string& text, const std::string& where) {
     const std::string log = dir_.file("background-" + std::to_string(background_.size()) + ".log");
-    const std::string script = "exec " + shell_line(text) + " >" + log + " 2>&1";  // built before fork: no allocation in the child
-    const pid_t pid = fork();
-    if (pid == 0) {
-      setpgid(0, 0);
-      if (chdir(dir_.path().c_str()) != 0) _exit(126);
-      execl("/bin/sh", "sh", "-c", script.c_str(), static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    setpgid(pid, pid);
+    const pid_t pid = spawn_in_group(shell_line(text), dir_.path().string(), ">" + log + " 2>&1");
     background_.push_back(pid);
     std::vector<std::string> links;
     static const std::regex kLink(R"(link=\$PWD/([A-Za-z0-9_.-]+))");
