@@ -11,6 +11,7 @@
 #include "auth.hpp"
 #include "request_guard.hpp"
 #include "loop_channels.hpp"
+#include "recorder_stats.hpp"
 #include "rig/config/rigd_config.hpp"
 #include "stream_hub.hpp"
 
@@ -45,6 +46,7 @@ struct ApiContext {
   ApiAuth auth{std::nullopt};
   RequestGuard guard{"", ""};  // CSRF / DNS-rebinding checks (request_guard.hpp)
   ApiCounters counters;
+  const service::RecorderStats* recorder_stats = nullptr;  // the archive's commit timing, when recording
   std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
   std::function<std::string()> lab_archive_status;  // JSON object when [lab_archive] is on (status "lab_archive")
   // libpq keyword/value pairs of the lab archive (lab_archive::connection_params); empty: off.

@@ -11,6 +11,25 @@
 
 namespace rig::api {
 
+namespace {
+
+double ms(const std::atomic<std::int64_t>& us) { return static_cast<double>(us.load(std::memory_order_relaxed)) / 1000.0; }
+
+proto::ArchiveCommits archive_commits(const service::RecorderStats& r, int flush_interval_ms) {
+  proto::ArchiveCommits a;
+  a.commits = static_cast<std::int64_t>(r.commits.load());
+  a.samples_written = static_cast<std::int64_t>(r.samples_written.load());
+  a.flush_interval_ms = flush_interval_ms;
+  a.last_commit_ms = ms(r.last_commit_us);
+  a.max_commit_ms = ms(r.max_commit_us);
+  a.max_late_ms = ms(r.max_late_us);
+  a.last_exposure_ms = ms(r.last_exposure_us);
+  a.max_exposure_ms = ms(r.max_exposure_us);
+  return a;
+}
+
+}  // namespace
+
 std::string status_json(ApiContext& c) {
   const rt::StatusSnapshot st = c.channels->status.read();
   const auto jitter = c.channels->jitter.snapshot();
@@ -53,6 +72,7 @@ std::string status_json(ApiContext& c) {
   s.surface_mm = c.config->loop.motion.surface_mm;
   // Validated against proto::LabArchiveStatus, so the page and `rig status` read one schema.
   if (c.lab_archive_status) s.lab_archive = nlohmann::json::parse(c.lab_archive_status()).get<proto::LabArchiveStatus>();
+  if (c.recorder_stats) s.archive_commits = archive_commits(*c.recorder_stats, c.config->archive.flush_interval_ms);
   return json_text(nlohmann::json(s));
 }
 
@@ -75,6 +95,12 @@ std::string prometheus_metrics(ApiContext& c) {
   counter("rigd_daq_misses_late_wake_total", "failed DAQ reads in late cycles (not held against the link)",
           static_cast<double>(n.late_wake_misses.load()));
   counter("rigd_recorder_drops_total", "samples the recorder could not take (faults the run)", static_cast<double>(n.recorder_drops.load()));
+  if (const service::RecorderStats* r = c.recorder_stats) {
+    counter("rigd_archive_commits_total", "commits of the rig's archive", static_cast<double>(r->commits.load()));
+    gauge("rigd_archive_commit_max_seconds", "the longest commit (write + fsync) since rigd started", ms(r->max_commit_us) / 1000.0);
+    gauge("rigd_archive_commit_late_max_seconds", "the latest a commit began after it was due", ms(r->max_late_us) / 1000.0);
+    gauge("rigd_archive_exposure_max_seconds", "the most samples a power cut could have taken, in time", ms(r->max_exposure_us) / 1000.0);
+  }
   counter("rigd_stream_ring_drops_total", "samples dropped before the stream hub", static_cast<double>(n.stream_drops.load()));
   counter("rigd_stream_messages_dropped_total", "WebSocket messages dropped for slow clients", static_cast<double>(c.counters.ws_messages_dropped.load()));
   counter("rigd_stream_messages_sent_total", "WebSocket messages sent", static_cast<double>(c.counters.ws_messages_sent.load()));

@@ -66,29 +66,57 @@ void Recorder::flush() {
   if (!dirty_) return;
   archive_->commit();
   dirty_ = false;
-  commits_.fetch_add(1);
+  stats_.commits.fetch_add(1);
   rt::FaultCode failing = rt::FaultCode::kArchiveWriteFailed;  // writes work again
   channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
 }
 
-void Recorder::run() {
-  using Clock = std::chrono::steady_clock;
+// A sample is durable once the commit after it has synced: counted from the end of the
+// previous commit, a sample waited up to two commits' time plus the interval (~80 ms at a
+// 50 ms interval and ~14 ms fsyncs: the QEMU power cuts lost that much). So the next commit
+// is due one interval after the previous one *began*, less its duration: what a power cut
+// can take is then about one interval (plus the change in commit time), not more.
+void Recorder::commit_when_due(Clock::time_point& next_commit) {
+  const auto began = Clock::now();
+  if (began < next_commit) return;
+  const bool had_data = dirty_;
+  flush();
+  const auto ended = Clock::now();
   const auto interval = std::chrono::milliseconds(flush_interval_ms_);
-  // A sample is durable once the commit after it has synced: counted from the end of the
-  // previous commit, a sample waited up to two commits' time plus the interval (~80 ms at a
-  // 50 ms interval and ~14 ms fsyncs: the QEMU power cuts lost that much). So the next commit
-  // is due one interval after the previous one *began*, less its duration: what a power cut
-  // can take is then about one interval (plus the change in commit time), not more.
-  auto next_commit = Clock::now() + interval;
+  if (had_data) {
+    tally_commit(next_commit, began, ended);
+  } else {
+    previous_commit_began_ = began;  // nothing was pending then: later samples are exposed from here
+  }
+  next_commit = began + std::max(Clock::duration::zero(), interval - (ended - began));
+}
+
+void Recorder::tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended) {
+  using std::chrono::duration_cast;
+  using std::chrono::microseconds;
+  auto raise = [](std::atomic<std::int64_t>& max, std::int64_t value) {
+    if (value > max.load(std::memory_order_relaxed)) max.store(value, std::memory_order_relaxed);
+  };
+  const std::int64_t took_us = duration_cast<microseconds>(ended - began).count();
+  stats_.last_commit_us.store(took_us, std::memory_order_relaxed);
+  raise(stats_.max_commit_us, took_us);
+  raise(stats_.max_late_us, duration_cast<microseconds>(began - due).count());
+  // Samples drained after the previous commit began became durable only now (a sample waits
+  // in the loop's ring up to one drain period, ~2 ms, before that).
+  if (previous_commit_began_ != Clock::time_point{}) {
+    const std::int64_t exposure_us = duration_cast<microseconds>(ended - previous_commit_began_).count();
+    stats_.last_exposure_us.store(exposure_us, std::memory_order_relaxed);
+    raise(stats_.max_exposure_us, exposure_us);
+  }
+  previous_commit_began_ = began;
+}
+
+void Recorder::run() {
+  auto next_commit = Clock::now() + std::chrono::milliseconds(flush_interval_ms_);
   while (!stop_.load()) {
     try {
       drain();
-      if (Clock::now() >= next_commit) {
-        const auto began = Clock::now();
-        flush();
-        const auto took = Clock::now() - began;
-        next_commit = began + std::max(Clock::duration::zero(), interval - took);
-      }
+      commit_when_due(next_commit);
     } catch (const std::exception& e) {
       // Disk full or I/O error: the loop faults a moving rig at its next cycle; what was
       // committed stays, the failed transaction (< one flush interval) is lost.
@@ -97,6 +125,7 @@ void Recorder::run() {
         spdlog::critical("recorder: archive write failed, faulting the run: {}", e.what());
       archive_->rollback();
       dirty_ = false;
+      previous_commit_began_ = {};  // the lost transaction is not a commit's exposure
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
@@ -118,7 +147,7 @@ std::size_t Recorder::drain() {
     archive_->append_sample(sample);
     ++count;
   }
-  samples_written_.fetch_add(count);
+  stats_.samples_written.fetch_add(count);
   rt::Event event;
   while (channels_->recorder_events.try_pop(event)) {
     if (!dirty_) archive_->begin();

@@ -3,6 +3,7 @@
 // written in a transaction committed every flush interval, so a crash (even kill -9) loses
 // at most that interval. Never touches the RT thread's data except through the rings.
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -12,6 +13,7 @@
 
 #include "archive.hpp"
 #include "loop_channels.hpp"
+#include "recorder_stats.hpp"
 
 namespace rig::service {
 
@@ -25,25 +27,30 @@ class Recorder {
   // Camera frame index rows, from the camera thread: written in the recorder's own
   // transaction, so the archive has a single writer and nobody waits on its lock.
   void add_frames(std::vector<archive::FrameRow> rows);
-  std::uint64_t samples_written() const { return samples_written_.load(); }
-  std::uint64_t commits() const { return commits_.load(); }
+  std::uint64_t samples_written() const { return stats_.samples_written.load(); }
+  std::uint64_t commits() const { return stats_.commits.load(); }
+  const RecorderStats& stats() const { return stats_; }
 
  private:
   void run();
   std::size_t drain();
   void handle(const rt::Event& event);
   void flush();
+  using Clock = std::chrono::steady_clock;
+  // Commits once next_commit has come, sets the next one and tallies the commit's timing.
+  void commit_when_due(Clock::time_point& next_commit);
+  void tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
 
   rt::LoopChannels* channels_;
   std::unique_ptr<archive::Archive> archive_;
   int flush_interval_ms_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
-  std::atomic<std::uint64_t> samples_written_{0};
-  std::atomic<std::uint64_t> commits_{0};
+  RecorderStats stats_;
   std::int64_t armed_run_ = 0;
   std::int64_t open_run_ = 0;
   bool dirty_ = false;
+  Clock::time_point previous_commit_began_{};  // for the exposure; epoch: none yet
   std::string last_fault_;
   std::mutex frames_mutex_;  // never taken by the RT thread
   std::vector<archive::FrameRow> pending_frames_;

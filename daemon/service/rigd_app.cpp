@@ -146,6 +146,7 @@ void RigdApp::start_services() {
   }
   api::ApiContext& c = parts_->api_context;
   c.channels = parts_->channels.get();
+  c.recorder_stats = &parts_->recorder->stats();
   c.hub = parts_->hub.get();
   c.config = &config_;
   c.realtime = parts_->rt_report.realtime;

@@ -119,6 +119,11 @@ TEST(Metrics, ArePrometheusTextWithTheJitterHistogramAndDropCounters) {
   EXPECT_NE(text.find("rigd_loop_wakeup_latency_us_bucket{le=\"+Inf\"}"), std::string::npos);
   EXPECT_GT(metric(text, "rigd_loop_cycles_total"), 100);
   EXPECT_EQ(metric(text, "rigd_recorder_drops_total"), 0);
+  EXPECT_GE(metric(text, "rigd_archive_commits_total"), 0);
+  EXPECT_GE(metric(text, "rigd_archive_exposure_max_seconds"), 0);
+  const auto status = nlohmann::json::parse(rig.api().get("/api/status").body);
+  ASSERT_TRUE(status.contains("archive_commits")) << status.dump();
+  EXPECT_EQ(status["archive_commits"]["flush_interval_ms"], 50) << "config/rigd.sim.toml's archive.flush_interval_ms";
   EXPECT_GE(metric(text, "rigd_stream_messages_dropped_total"), 0);
   EXPECT_NE(text.find("rigd_state{state=\"Idle\"} 1"), std::string::npos);
 }

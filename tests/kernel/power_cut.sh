@@ -83,6 +83,13 @@ judge_loss() {
   fi
   losses="$losses $lost"; losses_max="$losses_max $lost_max"
   echo "run $cut_run: $1, ${lost}..${lost_max} ms lost (heartbeat: $hb)"
+  # rigd's tally before the cut (scenario_power.sh COMMITS): longest commit, latest start,
+  # longest exposure, last exposure [ms].
+  if [ -n "$cut_commits" ]; then
+    read -r _ c_max c_late c_exp c_last <<< "$cut_commits"
+    echo "run $cut_run: rigd's commits before the cut: longest ${c_max} ms, latest start ${c_late} ms late, exposure longest ${c_exp} ms, last ${c_last} ms"
+    commit_max="$commit_max $c_max"; commit_late="$commit_late $c_late"; exposure_max="$exposure_max $c_exp"
+  fi
   # A read after the cut would mean the clocks are misjudged by more than a loop period.
   if awk -v a="$lost" -v b="$lost_max" -v p="$period_ms" 'BEGIN { exit !(a > b + p) }'; then
     echo "FAIL: run $cut_run: rig-sim's last read (${lost} ms) is after the guest's clock at the cut (${lost_max} ms)"
@@ -99,9 +106,9 @@ start=$(date +%s.%N)
 # The limit's margin: one loop period (1 kHz). lost_max counts the time from the last sample the
 # loop produced to the cut, which holds no sample: 50 samples lost <=> lost_max < 51 ms.
 period_ms=1
-failures=0; checked=0; accidental=0; losses=""; losses_max=""; drifts=""; lines=""
+failures=0; checked=0; accidental=0; losses=""; losses_max=""; drifts=""; lines=""; commit_max=""; commit_late=""; exposure_max=""
 : > "$work/kept"   # "id outcome count min max max_t_s" of runs already checked after their cut
-cut_run=""; cut_state=""; committed=-1; cut_from=""; loop_start=""; hb=""
+cut_run=""; cut_state=""; committed=-1; cut_from=""; loop_start=""; hb=""; cut_commits=""
 for boot_no in $(seq 0 "$cuts"); do
   mode=cut; [ "$boot_no" -eq "$cuts" ] && mode=check
   boot "$mode" || exit 1
@@ -139,6 +146,7 @@ for boot_no in $(seq 0 "$cuts"); do
   # The last complete status line (the cut may have torn the one being printed).
   status_line="$(echo "$log" | grep '^CYC [0-9]* [0-9]* [A-Za-z]* -\?[0-9][0-9]*$' | tail -1 || true)"
   read -r _ cut_run _ cut_state committed <<< "$status_line"
+  cut_commits="$(echo "$log" | grep '^COMMITS [0-9.e+-]* [0-9.e+-]* [0-9.e+-]* [0-9.e+-]*$' | tail -1 || true)"
   cut_from=$(echo "$log" | awk -v r="$cut_run" '$1 == "CYC" && $2 == r && $4 == "Cutting" { print $3; exit }')
   # The clock of this boot (the next boot reads its archive): the loop's start and the heartbeat
   # (heartbeat_watch.py: cut_us last_read_us last_line_us lines window_lines drift_us dropped).
@@ -152,7 +160,7 @@ measured=$(echo $losses | wc -w)
 median() { tr ' ' '\n' | grep . | sort -g | awk '{ v[NR] = $1 } END { if (NR == 0) print "-"; else if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 largest() { tr ' ' '\n' | grep . | sort -g | tail -1 | grep . || echo -; }
 smallest() { tr ' ' '\n' | grep . | sort -g | head -1 | grep . || echo -; }
-echo "POWER LOSS | $cuts power cuts (kill -9 QEMU, seed $seed), $checked cut runs checked, $accidental not cutting at the cut, $measured measured (cutting), every sample committed before the cut kept | loss per cut (ms of samples after the last archived one: at least up to rig-sim's last DAQ read, at most up to the guest's clock at the cut): worst $(echo $losses | largest)..$(echo $losses_max | largest), median $(echo $losses | median)..$(echo $losses_max | median), least $(echo $losses | smallest)..$(echo $losses_max | smallest) (limit $limit_ms + $period_ms) | heartbeat lines per boot: median $(echo $lines | median), clock offset drift over a boot: worst $(echo $drifts | largest) us | integrity_check ok on every boot | $(printf '%.0f' "$secs") s"
+echo "POWER LOSS | $cuts power cuts (kill -9 QEMU, seed $seed), $checked cut runs checked, $accidental not cutting at the cut, $measured measured (cutting), every sample committed before the cut kept | loss per cut (ms of samples after the last archived one: at least up to rig-sim's last DAQ read, at most up to the guest's clock at the cut): worst $(echo $losses | largest)..$(echo $losses_max | largest), median $(echo $losses | median)..$(echo $losses_max | median), least $(echo $losses | smallest)..$(echo $losses_max | smallest) (limit $limit_ms + $period_ms) | rigd's commits over a boot (longest commit, latest start, longest exposure; worst and median of boots): $(echo $commit_max | largest)/$(echo $commit_max | median), $(echo $commit_late | largest)/$(echo $commit_late | median), $(echo $exposure_max | largest)/$(echo $exposure_max | median) ms | heartbeat lines per boot: median $(echo $lines | median), clock offset drift over a boot: worst $(echo $drifts | largest) us | integrity_check ok on every boot | $(printf '%.0f' "$secs") s"
 # Every cut must have been checked, and most must have cut a run while it cut: a rig
 # that faults before it records would pass the checks above without testing anything.
 [ "$checked" -eq "$cuts" ] || { echo "FAIL: $checked of $cuts cut runs checked"; failures=$((failures + 1)); }

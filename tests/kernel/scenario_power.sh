@@ -56,4 +56,8 @@ while :; do
   status=$(wget -qO- "$RIG_API/api/status")
   committed=$(sqlite3 "$archive" "SELECT IFNULL(MAX(idx), -1) FROM samples WHERE run_id = $run" 2>/dev/null || echo -1)
   echo "CYC $run $(echo "$status" | sed -n 's/.*"cycles":\([0-9]*\).*/\1/p') $(echo "$status" | sed -n 's/.*"state":"\([A-Za-z]*\)".*/\1/p') ${committed:--1}"
+  # rigd's own tally of its commits (status archive_commits, keys in alphabetical order): the
+  # longest commit, the latest start and the longest and last exposure [ms] - a slow disk or a
+  # starved recorder, when a cut loses more than one flush interval.
+  echo "$status" | sed -n 's/.*"last_exposure_ms":\([0-9.e+-]*\).*"max_commit_ms":\([0-9.e+-]*\).*"max_exposure_ms":\([0-9.e+-]*\).*"max_late_ms":\([0-9.e+-]*\).*/COMMITS \2 \4 \3 \1/p'
 done

@@ -46,6 +46,19 @@ class RigProcesses {
     start_rigd();
   }
 
+  // A child that ended on its own (a crash, a sanitizer's report; or a test's own kill) is
+  // named with the end of its log: the scratch folder holding the log goes with the test.
+  ~RigProcesses() {
+    for (cli::ChildProcess* child : {rigd_.get(), sim_.get()}) {
+      if (child != nullptr && child->pid() > 0 && !child->running()) {
+        std::printf("CHILD-ENDED | %s ended before the test stopped it; the end of its log:\n%s\n", child->log_path().c_str(),
+                    child->log_tail(4000).c_str());
+      }
+    }
+  }
+  RigProcesses(const RigProcesses&) = delete;
+  RigProcesses& operator=(const RigProcesses&) = delete;
+
   void start_rigd() {
     std::vector<std::string> args = {bin("rigd"), "--config", source("config/rigd.sim.toml"),
                                      "--set", "daq.port=" + std::to_string(sim_port_), "--set", "api.port=0",
