@@ -149,6 +149,10 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
     fail("key 'safety.max_failed_writes' (" + std::to_string(failed_writes) + " loop periods) must be shorter than 'daq.watchdog_ms' (" +
          std::to_string(c.daq.modbus.watchdog_ms) + " ms)");
   }
+  if (c.archive.recorder_priority > 0 && c.archive.recorder_priority >= c.thread.priority && c.thread.priority > 0) {
+    fail("key 'archive.recorder_priority' (" + std::to_string(c.archive.recorder_priority) + ") must be below 'loop.priority' (" +
+         std::to_string(c.thread.priority) + "): the loop comes first");
+  }
   if (c.daq.modbus.transport == "rtu" && c.daq.modbus.serial_device.empty()) {
     fail("key 'daq.serial_device' is required for daq.transport = \"rtu\"");
   }

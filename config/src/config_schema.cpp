@@ -146,6 +146,9 @@ void add_io_fields(std::vector<ConfigField>& f) {
 
 void add_service_fields(std::vector<ConfigField>& f) {
   f.push_back(path("archive.path", "SQLite archive file", RIG_AT(archive.path)));
+  f.push_back(integer("archive.recorder_priority", 0, 98,
+                      "SCHED_FIFO priority of the recorder (below loop.priority): commits on time on a busy machine, 0 = normal scheduling",
+                      RIG_AT(archive.recorder_priority)));
   f.push_back(integer("archive.flush_interval_ms", 5, 50, "commit period [ms] (crash loses at most about twice this)", RIG_AT(archive.flush_interval_ms)));
   f.push_back(text("api.bind", {}, "address the API binds to (non-loopback needs a token)", RIG_AT(api.bind)));
   f.push_back(integer("api.port", 0, 65535, "API port, 0 = any free port", RIG_AT(api.port)));

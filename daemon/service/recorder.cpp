@@ -1,10 +1,13 @@
 #include "recorder.hpp"
 
+#include <pthread.h>
+#include <sched.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstring>
 
 namespace rig::service {
 
@@ -49,7 +52,16 @@ Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, 
 
 Recorder::~Recorder() { stop(); }
 
-void Recorder::start() { thread_ = std::thread([this] { run(); }); }
+std::string Recorder::start(int priority) {
+  thread_ = std::thread([this] { run(); });
+  if (priority <= 0) return {};
+  sched_param param{};
+  param.sched_priority = priority;
+  const int rc = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);
+  if (rc == 0) return {};
+  return "SCHED_FIFO priority " + std::to_string(priority) + " for the recorder refused (" + std::strerror(rc) +
+         "): its commits may come late on a busy machine, and a power cut then loses more than one flush interval";
+}
 
 void Recorder::stop() {
   if (!thread_.joinable()) return;

@@ -21,7 +21,9 @@ class Recorder {
  public:
   Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms);
   ~Recorder();
-  void start();
+  // Starts the thread, with SCHED_FIFO at `priority` when > 0; returns why that was refused
+  // (the recorder then runs with normal scheduling), empty when granted or not asked.
+  std::string start(int priority = 0);
   void stop();  // drains what is left, commits, joins
 
   // Camera frame index rows, from the camera thread: written in the recorder's own

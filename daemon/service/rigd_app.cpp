@@ -135,7 +135,8 @@ void RigdApp::start_loop() {
 void RigdApp::start_services() {
   std::filesystem::create_directories(std::filesystem::absolute(config_.archive.path).parent_path());
   parts_->recorder = std::make_unique<Recorder>(*parts_->channels, config_.archive.path, config_.archive.flush_interval_ms);
-  parts_->recorder->start();
+  const std::string refused = parts_->recorder->start(parts_->rt_report.realtime ? config_.archive.recorder_priority : 0);
+  if (!refused.empty()) spdlog::warn("archive: {}", refused);
   parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm, config_.stream.batch_ms);
   try {
     auto overlay = std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file));

@@ -102,6 +102,17 @@ TEST(Config, ABadLostDaqWritesLimitIsRefusedNamingTheKey) {
   EXPECT_NE(message_for("", {"safety.max_failed_writes=-1"}).find("--set safety.max_failed_writes=-1"), std::string::npos);
 }
 
+TEST(Config, TheRecorderRunsBelowTheLoopOrWithNormalScheduling) {
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.toml")).archive.recorder_priority, 60);
+  const std::string above = message_for("[loop]\npriority = 50\n[archive]\nrecorder_priority = 50\n");
+  EXPECT_NE(above.find("key 'archive.recorder_priority' (50) must be below 'loop.priority' (50)"), std::string::npos) << above;
+  EXPECT_EQ(message_for("[loop]\npriority = 50\n[archive]\nrecorder_priority = 0\n"), "no error");
+  EXPECT_EQ(message_for("[loop]\npriority = 0\n[archive]\nrecorder_priority = 60\n"), "no error") << "no real-time loop: not asked";
+  const std::string range = message_for("[archive]\nrecorder_priority = 99\n");
+  EXPECT_NE(range.find("'archive.recorder_priority'"), std::string::npos) << range;
+  EXPECT_NE(range.find("rigd.toml:2"), std::string::npos) << range;
+}
+
 TEST(Config, AnAllowedOriginThatIsNotAnOriginIsRefused) {
   const std::string m = message_for("[api]\nallowed_origins = \"http://rig07:8080, rig08:8080\"\n");
   EXPECT_NE(m.find("key 'api.allowed_origins': 'rig08:8080' is not an origin"), std::string::npos) << m;

@@ -55,6 +55,10 @@ struct CameraSection {
 struct ArchiveSection {
   std::string path = "/var/lib/rigd/archive.sqlite";
   int flush_interval_ms = 50;     // commit period: a crash loses at most ~2x this
+  // SCHED_FIFO priority of the recorder thread, below the loop's: its commits come on time
+  // while the API and other processes wait (it sleeps between commits and blocks in fsync,
+  // never spins). 0 = normal scheduling.
+  int recorder_priority = 60;
 };
 
 struct ApiSection {
