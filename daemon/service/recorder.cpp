@@ -11,6 +11,11 @@
 
 namespace rig::service {
 
+namespace {
+// The recorder drains the loop's rings this often: a sample waits up to this long there.
+constexpr std::chrono::milliseconds kDrainPeriod{2};
+}  // namespace
+
 std::string describe_fault(rt::FaultCode code, double value) {
   char detail[64] = "";
   switch (code) {
@@ -42,7 +47,8 @@ std::string describe_fault(rt::FaultCode code, double value) {
 Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms)
     : channels_(&channels),
       archive_(std::make_unique<archive::Archive>(archive_path)),
-      flush_interval_ms_(flush_interval_ms) {
+      flush_interval_ms_(flush_interval_ms),
+      cadence_(std::chrono::milliseconds(flush_interval_ms), kDrainPeriod) {
   const int interrupted = archive_->recover_interrupted();
   if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
   for (const std::string& source : archive_->remove_abandoned_imports()) {
@@ -83,24 +89,22 @@ void Recorder::flush() {
   channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
 }
 
-// A sample is durable once the commit after it has synced: counted from the end of the
-// previous commit, a sample waited up to two commits' time plus the interval (~80 ms at a
-// 50 ms interval and ~14 ms fsyncs: the QEMU power cuts lost that much). So the next commit
-// is due one interval after the previous one *began*, less its duration: what a power cut
-// can take is then about one interval (plus the change in commit time), not more.
+// A sample is durable once the commit after it has synced. The next commit is due early
+// enough that the span from this one's start to the next one's end stays within the flush
+// interval (commit_cadence.hpp): what a power cut can take is then one interval.
 void Recorder::commit_when_due(Clock::time_point& next_commit) {
   const auto began = Clock::now();
   if (began < next_commit) return;
   const bool had_data = dirty_;
   flush();
   const auto ended = Clock::now();
-  const auto interval = std::chrono::milliseconds(flush_interval_ms_);
   if (had_data) {
     tally_commit(next_commit, began, ended);
+    next_commit = cadence_.after_commit(next_commit, began, ended);
   } else {
     previous_commit_began_ = began;  // nothing was pending then: later samples are exposed from here
+    next_commit = began + std::chrono::milliseconds(flush_interval_ms_) - kDrainPeriod - cadence_.recent_cost();
   }
-  next_commit = began + std::max(Clock::duration::zero(), interval - (ended - began));
 }
 
 void Recorder::tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended) {
@@ -140,7 +144,7 @@ void Recorder::run() {
       previous_commit_began_ = {};  // the lost transaction is not a commit's exposure
       std::this_thread::sleep_for(std::chrono::milliseconds(200));
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    std::this_thread::sleep_for(kDrainPeriod);
   }
   try {
     drain();

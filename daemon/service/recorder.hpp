@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "archive.hpp"
+#include "commit_cadence.hpp"
 #include "loop_channels.hpp"
 #include "recorder_stats.hpp"
 
@@ -46,6 +47,7 @@ class Recorder {
   rt::LoopChannels* channels_;
   std::unique_ptr<archive::Archive> archive_;
   int flush_interval_ms_;
+  CommitCadence cadence_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   RecorderStats stats_;

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <random>
 #include <thread>
 
 #include "archive.hpp"
+#include "commit_cadence.hpp"
 #include "loop_channels.hpp"
 #include "recorder.hpp"
 #include "test_paths.hpp"
@@ -77,6 +79,55 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
   EXPECT_EQ(stats.commits.load(), commits_before + 1);
   EXPECT_LT(stats.last_exposure_us.load(), 1'000'000) << "the idle spell was counted as exposure [us]";
   recorder.stop();
+}
+
+using Clock = CommitCadence::Clock;
+constexpr auto kInterval = std::chrono::milliseconds(50);
+constexpr auto kDrain = std::chrono::milliseconds(2);
+
+TEST(CommitCadence, TheNextCommitStartsEarlyByTheRecentCostSoItsExposureStaysWithinTheInterval) {
+  CommitCadence cadence(kInterval, kDrain);
+  const Clock::time_point t0{};
+  // Due at t0, began 5 ms late, took 10 ms: the next is due 50 - 2 - 15 ms after it began.
+  const Clock::time_point began = t0 + 5ms;
+  const Clock::time_point next = cadence.after_commit(t0, began, began + 10ms);
+  EXPECT_EQ(next - began, 33ms);
+  // A next commit no costlier (5 ms late, 10 ms long) ends within the interval of `began`,
+  // less the drain period a sample can wait in the ring.
+  EXPECT_LE((next + 5ms + 10ms) - began, kInterval - kDrain);
+  // A commit longer than the interval: the next one is due at once, never before it ended.
+  const Clock::time_point slow = t0 + 1s;
+  EXPECT_EQ(cadence.after_commit(slow, slow, slow + 80ms), slow + 80ms);
+  // The margin forgets: after kRecent cheap commits it is theirs again.
+  Clock::time_point t = t0 + 2s;
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 1ms);
+  EXPECT_EQ(cadence.recent_cost(), 1ms);
+}
+
+TEST(CommitCadence, NoCommitCostlierThanTheRecentOnesExposesMoreThanTheInterval) {
+  CommitCadence cadence(kInterval, kDrain);
+  std::mt19937 random(20261127);
+  // Duration and lateness up to 10 ms each [us]: a commit and its margin fit in the interval
+  // (beyond that no cadence can keep the bound: the disk is slower than the interval).
+  std::uniform_int_distribution<int> cost_us(0, 10'000);
+  Clock::time_point due{};
+  Clock::time_point previous_began{};
+  Clock::duration worst_exposure{};
+  Clock::duration worst_cost{};
+  for (int commit = 0; commit < 2000; ++commit) {
+    const auto late = std::chrono::microseconds(cost_us(random));
+    const auto took = std::chrono::microseconds(cost_us(random));
+    const Clock::time_point began = due + late;
+    const Clock::time_point ended = began + took;
+    // Judged only while the margin already holds a cost as high as this one's.
+    if (commit > 0 && late + took <= cadence.recent_cost()) worst_exposure = std::max(worst_exposure, ended - previous_began);
+    worst_cost = std::max(worst_cost, Clock::duration(late + took));
+    due = cadence.after_commit(due, began, ended);
+    previous_began = began;
+  }
+  EXPECT_GT(worst_exposure, Clock::duration::zero()) << "no commit was judged";
+  EXPECT_LE(worst_exposure, kInterval - kDrain);
+  EXPECT_GT(worst_cost, 15ms) << "the draw never came near its bound";
 }
 
 }  // namespace

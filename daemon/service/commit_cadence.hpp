@@ -1,0 +1,37 @@
+#pragma once
+// When the recorder's next commit is due. A run's samples are durable once the commit after
+// them has synced, so what a power cut can take (the exposure) runs from one commit's start
+// to the next one's end: exposure = the gap between their starts + the second commit's
+// duration. To keep it within the flush interval, the next commit starts early by what the
+// recent commits cost (their duration plus how late they began, the largest of the last
+// kRecent) and by the drain period (a sample waits that long in the loop's ring). A slow
+// disk or a starved recorder then means more frequent commits, not a longer exposure.
+// Pure: the recorder passes its clock's times in (tests pass their own).
+#include <array>
+#include <chrono>
+#include <cstddef>
+
+namespace rig::service {
+
+class CommitCadence {
+ public:
+  using Clock = std::chrono::steady_clock;
+  static constexpr std::size_t kRecent = 8;  // commits remembered for the margin
+
+  CommitCadence(Clock::duration flush_interval, Clock::duration drain_period)
+      : interval_(flush_interval), drain_period_(drain_period) {}
+
+  // A commit that was due at `due`, began at `began` and ended at `ended`; returns when the
+  // next one is due: never before `ended`.
+  Clock::time_point after_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
+  // The current margin: the largest recent cost (duration + lateness).
+  Clock::duration recent_cost() const;
+
+ private:
+  Clock::duration interval_;
+  Clock::duration drain_period_;
+  std::array<Clock::duration, kRecent> costs_{};
+  std::size_t next_ = 0;
+};
+
+}  // namespace rig::service
