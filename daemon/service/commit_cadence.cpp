@@ -9,7 +9,11 @@ CommitCadence::Clock::time_point CommitCadence::after_commit(Clock::time_point d
   const Clock::duration late = std::max(Clock::duration::zero(), began - due);
   costs_[next_] = (ended - began) + late;
   next_ = (next_ + 1) % kRecent;
-  return std::max(ended, began + interval_ - drain_period_ - recent_cost());
+  return std::max(ended, after_empty_check(began));
+}
+
+CommitCadence::Clock::time_point CommitCadence::after_empty_check(Clock::time_point began) const {
+  return began + interval_ - drain_period_ - recent_cost();
 }
 
 CommitCadence::Clock::duration CommitCadence::recent_cost() const { return *std::max_element(costs_.begin(), costs_.end()); }

@@ -24,6 +24,8 @@ class CommitCadence {
   // A commit that was due at `due`, began at `began` and ended at `ended`; returns when the
   // next one is due: never before `ended`.
   Clock::time_point after_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
+  // A due time at `began` that found nothing to commit: when the next one is due.
+  Clock::time_point after_empty_check(Clock::time_point began) const;
   // The current margin: the largest recent cost (duration + lateness).
   Clock::duration recent_cost() const;
 

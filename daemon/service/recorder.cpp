@@ -103,7 +103,7 @@ void Recorder::commit_when_due(Clock::time_point& next_commit) {
     next_commit = cadence_.after_commit(next_commit, began, ended);
   } else {
     previous_commit_began_ = began;  // nothing was pending then: later samples are exposed from here
-    next_commit = began + std::chrono::milliseconds(flush_interval_ms_) - kDrainPeriod - cadence_.recent_cost();
+    next_commit = cadence_.after_empty_check(began);
   }
 }
 
