@@ -72,9 +72,13 @@ TEST(HapticPlayback, RenderingTheRawEncoderCountsWouldBeSeveralTimesWorse) {
   servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};
   servo.estimate_between_counts = false;
   servo.count_late_ticks = false;
-  HapticSession session(device, source, servo);
-  session.run(nullptr, nullptr, 60.0);
+  // Virtual time and no hand on a device: no wall-clock watchdog, as Playback sets it. With the
+  // default 20 ms one, a loaded machine ended this session before contact (raw max 0 N).
+  HapticSession session(device, source, servo, std::chrono::milliseconds(0));
+  const SessionReport report = session.run(nullptr, nullptr, 60.0);
+  ASSERT_TRUE(report.fault.empty()) << report.fault;
   const ErrorFigures raw = felt_error(device.felt(), source);
+  EXPECT_GT(raw.samples, 9000U);  // 9.85 mm in and out at 2 mm/s, as the estimated session
   const ErrorFigures estimated = *play_model(2.0, 15.0).vs_model;
   std::printf("raw counts: RMSE %.5f N, max %.5f N; estimated: RMSE %.5f N, max %.5f N\n", raw.rmse_N, raw.max_N,
               estimated.rmse_N, estimated.max_N);
@@ -195,7 +199,9 @@ TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReport
   ModelForceSource source(model, 15.0);
   ServoSettings servo;
   servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the fake stylus reaches it 1.5 s after the first frame
-  HapticSession session(device, source, servo);
+  // Not a watchdog test (TheWatchdogTurnsForceOff… is): 500 ms, so a loaded machine's stall of
+  // the fake scheduler thread cannot end the session.
+  HapticSession session(device, source, servo, std::chrono::milliseconds(500));
   // [s] 1 mm deep 2 s after the first frame, with room for a late first frame
   const SessionReport report = session.run(nullptr, nullptr, 3.0);
   EXPECT_TRUE(report.fault.empty()) << report.fault;
