@@ -20,7 +20,9 @@ namespace {
 
 using nlohmann::json;
 
-const std::string kRun = R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":8,"meta":{"eye_lot":"L7"}})";
+// 0.5 mm/s, the rig's slowest: 16 s into the eye, so the kill below comes mid-run even when a
+// loaded machine is slow to reach it (at 2 mm/s the run completed first under ./rig stress).
+const std::string kRun = R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":0.5,"depth_mm":8,"meta":{"eye_lot":"L7"}})";
 
 json lab_status(const testing::RigProcesses& rig) { return rig.status().value("lab_archive", json::object()); }
 
@@ -40,6 +42,7 @@ TEST(LabArchiveRigd, ARigdKilledWithABacklogDuringANetworkCutResumesAndTheLabGet
   EXPECT_EQ(lab_status(rig)["connected"], false);
   const auto status_line = testing::run_command(testing::bin("rig") + " --api " + rig.url() + " status");
   EXPECT_NE(status_line.output.find("NOT CONNECTED as rig-e2e, backlog 1 runs"), std::string::npos) << status_line.output;
+  ASSERT_EQ(rig.status()["state"], "Cutting") << "the run ended before the kill: this test needs it mid-run";
   kill(rig.rigd().pid(), SIGKILL);
   usleep(300000);
   proxy.restore();

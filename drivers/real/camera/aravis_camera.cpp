@@ -2,6 +2,7 @@
 
 #include <arv.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "clock/monotonic_clock.hpp"
@@ -81,11 +82,16 @@ void AravisCamera::create_stream(int buffer_count) {
   GError* error = nullptr;
   stream_.reset(arv_camera_create_stream(camera_.get(), nullptr, nullptr, &error));
   if (!stream_) throw std::runtime_error(take_error(error, "camera '" + id_ + "': cannot create the stream"));
-  if (ARV_IS_GV_STREAM(stream_.get())) {
-    g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_AUTO, nullptr);
-  }
   const guint payload = arv_camera_get_payload(camera_.get(), &error);
   if (error != nullptr) throw std::runtime_error(take_error(error, "camera '" + id_ + "': payload size"));
+  if (ARV_IS_GV_STREAM(stream_.get())) {
+    // The receive buffer holds several frames, not one (Aravis' "auto" is one payload): a
+    // receiver thread that a busy machine does not schedule for a frame's burst of packets
+    // must not lose them (3 of 50 frames came incomplete on loopback under ./rig stress).
+    // The kernel caps it at net.core.rmem_max.
+    const auto buffer_B = static_cast<gint>(std::clamp<guint>(4U * payload, 1U << 20, 16U << 20));
+    g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size", buffer_B, nullptr);
+  }
   for (int i = 0; i < buffer_count; ++i) arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload, nullptr));
 }
 
