@@ -85,10 +85,10 @@ void AravisCamera::create_stream(int buffer_count) {
   const guint payload = arv_camera_get_payload(camera_.get(), &error);
   if (error != nullptr) throw std::runtime_error(take_error(error, "camera '" + id_ + "': payload size"));
   if (ARV_IS_GV_STREAM(stream_.get())) {
-    // The receive buffer holds several frames, not one (Aravis' "auto" is one payload): a
-    // receiver thread that a busy machine does not schedule for a frame's burst of packets
-    // must not lose them (3 of 50 frames came incomplete on loopback under ./rig stress).
-    // The kernel caps it at net.core.rmem_max.
+    // The receive buffer holds several frames, not one (Aravis' "auto" is one payload), so a
+    // receiver thread that a busy machine does not schedule during a frame's burst of packets
+    // has room for them. (The incomplete frames seen under ./rig stress came at the stream's
+    // start and were not cured by this.) The kernel caps it at net.core.rmem_max [B].
     const auto buffer_B = static_cast<gint>(std::clamp<guint>(4U * payload, 1U << 20, 16U << 20));
     g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size", buffer_B, nullptr);
   }
