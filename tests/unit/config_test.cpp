@@ -78,9 +78,9 @@ TEST(Config, ADaqWatchdogOfZeroIsRefused) {
   EXPECT_NE(m.find("rigd.toml:2"), std::string::npos) << m;
 }
 
-TEST(Config, TheLostDaqWritesLimitDefaultsToThreeAndIsSet) {
+TEST(Config, TheLostDaqWritesLimitIsThreeOnTheRigTenOnTheSimulatedRigAndCanBeSet) {
   EXPECT_EQ(load_rigd_config(testing::source("config/rigd.toml")).loop.safety.max_failed_writes, 3);
-  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml")).loop.safety.max_failed_writes, 3);
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml")).loop.safety.max_failed_writes, 10);
   const RigdConfig c = load_rigd_config(testing::source("config/rigd.sim.toml"), {"safety.max_failed_writes=12"});
   EXPECT_EQ(c.loop.safety.max_failed_writes, 12);
 }
