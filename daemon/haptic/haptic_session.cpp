@@ -35,6 +35,8 @@ HapticSession::HapticSession(drivers::HapticDevice& device, const ForceSource& s
   check_renderable(source, limits);
   settings.period_s = device.period_s();
   settings.output_latency_s = device.output_latency_s();
+  // On a virtual clock wall-time gaps between ticks mean nothing: they are not late ticks.
+  if (!device.paced_by_wall_clock()) settings.count_late_ticks = false;
   servo_ = std::make_unique<ServoLoop>(settings, source, limits);
 }
 
@@ -42,7 +44,9 @@ HapticSession::~HapticSession() { device_.stop(); }
 
 SessionReport HapticSession::run(const std::function<void(const MeshSnapshot&)>& on_mesh, const std::atomic<bool>* cancel, double max_s) {
   using Clock = std::chrono::steady_clock;
-  StallWatchdog watchdog(device_, watchdog_timeout_);
+  // The watchdog guards a hand on a device in real time. On virtual time the servo runs as fast
+  // as the CPU allows and a loaded machine's stalls endanger no one: off (0 ms).
+  StallWatchdog watchdog(device_, device_.paced_by_wall_clock() ? watchdog_timeout_ : std::chrono::milliseconds(0));
   const Clock::time_point start = Clock::now();
   device_.start(*servo_);
   watchdog.start();

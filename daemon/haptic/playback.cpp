@@ -59,13 +59,9 @@ Playback::Playback(const PlaybackOptions& options, const model::ForceModel& refe
   device_name_ = device_->describe();
   ServoSettings servo;
   servo.mesh.n = options.mesh_n;
-  servo.count_late_ticks = options.device != "sim" || options.real_time;
   if (sim_ != nullptr) servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the virtual hand's frame
-  // The stall watchdog guards a hand on a device in real time; a simulated Phantom on virtual
-  // time runs the servo as fast as the CPU allows, and a loaded machine's stalls stop nothing.
-  const bool hand_on_device = options.device != "sim" || options.real_time;
-  session_ = std::make_unique<HapticSession>(*device_, *source_, servo,
-                                             std::chrono::milliseconds(hand_on_device ? 20 : 0));
+  // The session arms its 20 ms stall watchdog only on a device paced by the wall clock.
+  session_ = std::make_unique<HapticSession>(*device_, *source_, servo);
 }
 
 Playback::~Playback() = default;

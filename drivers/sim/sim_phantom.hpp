@@ -43,6 +43,7 @@ class SimPhantom final : public HapticDevice {
   bool running() const noexcept override { return running_.load(); }
   double output_latency_s() const noexcept override;
   double period_s() const noexcept override { return 1.0 / s_.rate_hz; }
+  bool paced_by_wall_clock() const noexcept override { return s_.real_time; }
 
   void wait() noexcept;  // until the hand's trajectory is done
   bool forced_off() const noexcept { return forced_off_.load(); }

@@ -29,6 +29,7 @@ class OpenHapticsDevice final : public HapticDevice {
   // next servo tick.
   double output_latency_s() const noexcept override { return 0.001; }
   double period_s() const noexcept override { return 0.001; }
+  bool paced_by_wall_clock() const noexcept override { return true; }  // a Phantom always has a hand on it
 
  private:
   struct Api;

@@ -54,6 +54,9 @@ class HapticDevice {
   // amplifier lag), so the servo can predict the position it renders for.
   virtual double output_latency_s() const noexcept = 0;
   virtual double period_s() const noexcept = 0;  // servo period [s]
+  // True when the servo runs on the wall clock, where a hand may hold the device (and a
+  // stalled servo must turn force off); false on a simulated device's virtual clock.
+  virtual bool paced_by_wall_clock() const noexcept = 0;
 };
 
 }  // namespace rig::drivers
