@@ -19,13 +19,15 @@ taskset 2 chrt -f 81 rig-sim --port 1502 --surface-mm 12 --heartbeat-fd 3 --hear
 # rig-sim's replies miss the 950 us time-out in runs of cycles, so 3 lost writes in a row (the
 # shipped safety.max_failed_writes) faulted most boots while homing; 400 stays below the VM's
 # 1000 ms DAQ watchdog. The overrun storm is off (64 overruns can never fall within a 1-cycle
-# window): TCG overruns whole stretches.
+# window): TCG overruns whole stretches. Following error 20 mm (was 5): on a fully busy host the
+# VM's vCPUs sat still for half a second and more, the carriage fell 5 mm behind its 10 mm/s
+# homing reference and every boot faulted before it cut (2026-11-27).
 rigd --config /etc/rig/rigd.sim.toml --set "archive.path=\"$archive\"" \
   --set 'model.file="/etc/rig/paper-interpreted.toml"' --set 'api.web_root="/tmp"' \
   --set motion.surface_mm=12 --set motion.park_mm=10 --set motion.homing_velocity_mm_s=10 \
   --set motion.retract_velocity_mm_s=10 --set safety.link_lost_after_ms=500 --set daq.watchdog_ms=1000 \
   --set safety.max_failed_writes=400 --set daq.response_timeout_us=950 --set safety.overrun_storm_missed_cycles=128 \
-  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=5 --set safety.tare_cycles=20 \
+  --set safety.overrun_storm_window_cycles=1 --set safety.max_following_error_mm=20 --set safety.tare_cycles=20 \
   --set iop.settle_time_s=0.3 --set stream.udp_enabled=true --set stream.udp_port=9870 > /tmp/rigd.log 2>&1 &
 rigd=$!
 for i in $(seq 150); do rig status > /dev/null 2>&1 && break; kill -0 $rigd || break; sleep 0.2; done
@@ -40,7 +42,8 @@ sqlite3 -separator ' ' "$archive" "SELECT 'RUNROW', r.id, r.outcome, COUNT(s.idx
   IFNULL(MAX(s.t_s), -1) FROM runs r LEFT JOIN samples s ON s.run_id = r.id GROUP BY r.id ORDER BY r.id" || exit 1
 grep -q rigmode=check /proc/cmdline && exit 0
 # The DAQ link comes up a moment after the API (the first replies under TCG are slow).
-for i in $(seq 20); do rig home > /dev/null 2>&1 && break; rig reset > /dev/null 2>&1; sleep 0.2; done
+for i in $(seq 20); do out=$(rig home 2>&1) && break; echo "HOME try $i: $out" | head -2; rig reset > /dev/null 2>&1; sleep 0.2; done
+echo "HOMED"
 for i in $(seq 20); do rig tare > /dev/null 2>&1 && break; sleep 0.3; done
 rig status | grep -q 'yes / yes' || { rig status; cat /tmp/rigd.log; exit 1; }
 # Commands are refused in a cycle whose DAQ reply was late (TCG): ask again.
