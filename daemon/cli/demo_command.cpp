@@ -14,6 +14,7 @@
 #include "archive.hpp"
 #include "child_process.hpp"
 #include "cut_summary.hpp"
+#include "shared_cpu.hpp"
 #include "timing_fault.hpp"
 
 namespace rig::cli {
@@ -146,12 +147,16 @@ int run_demo(const CliContext& c, const DemoOptions& o) {
   std::filesystem::create_directories(o.state_dir);
   const std::string state = std::filesystem::absolute(o.state_dir).string();
   const std::string archive_path = state + "/archive.sqlite";
-  ChildProcess sim({o.sim, "--port", "0"}, state + "/rig-sim.log");
+  const int cpu = pick_shared_cpu();  // rig-sim and rigd's loop stop together (shared_cpu.hpp)
+  std::vector<std::string> sim_args = {o.sim, "--port", "0"};
+  if (cpu >= 0) sim_args.insert(sim_args.end(), {"--cpu", std::to_string(cpu)});
+  ChildProcess sim(sim_args, state + "/rig-sim.log");
   const std::string listening = sim.wait_for_line("listening on", 10000);
   const std::string sim_port = listening.substr(listening.rfind(':') + 1);
   const int api_port = port_free(o.port) ? o.port : 0;
   std::vector<std::string> rigd_args = {o.rigd, "--config", o.config, "--set", "daq.port=" + sim_port,
                                         "--set", "api.port=" + std::to_string(api_port), "--set", "archive.path=\"" + archive_path + "\""};
+  if (cpu >= 0) rigd_args.insert(rigd_args.end(), {"--set", "loop.cpu=" + std::to_string(cpu)});
   if (!o.web_root.empty()) rigd_args.insert(rigd_args.end(), {"--set", "api.web_root=\"" + o.web_root + "\""});
   ChildProcess rigd(rigd_args, state + "/rigd.log");
   const std::string ready = rigd.wait_for_line("ready, API on", 15000);

@@ -24,6 +24,7 @@ RtThreadReport lock_process_memory(bool lock) {
 std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body, RtThreadReport& report) {
   std::thread thread(std::move(body));
   const pthread_t handle = thread.native_handle();
+  pthread_setname_np(handle, "rigd-loop");  // `top -H`, `ps -L` and the tests find it by name
   if (options.priority > 0) {
     sched_param param{};
     param.sched_priority = options.priority;

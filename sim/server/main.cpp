@@ -6,9 +6,12 @@
 #include <sched.h>
 #include <sys/mman.h>
 
+#include <cerrno>
 #include <csignal>
+#include <cstring>
 #include <fstream>
 #include <iostream>
+#include <thread>
 
 #include "clock/cpu_wake_latency_request.hpp"
 #include "modbus_sim_server.hpp"
@@ -31,6 +34,7 @@ int main(int argc, char** argv) {
   double covariate = 2.0;
   int rt_priority = 70;
   int cpu_wake_latency_us = 0;
+  int cpu = -1;
   bool lock_memory = true;
   app.add_option("--bind", options.bind, "address to listen on (loopback by default)");
   app.add_option("--port", options.port, "TCP port, 0 = any free port")->check(CLI::Range(0, 65535));
@@ -44,6 +48,9 @@ int main(int argc, char** argv) {
   app.add_option("--eye-variability", physics.tissue.eye_variability, "spread of the eyes: 1 = default (docs/sim.md), 0 = identical eyes");
   app.add_option("--force-noise-N", physics.sensors.force_noise_N, "load-cell noise, 1 sigma [N]");
   app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
+  app.add_option("--cpu", cpu,
+                 "pin every thread to this CPU, -1 = any (rig demo and the tests pin rig-sim and rigd's loop to one CPU: "
+                 "a stalled CPU then stops both)")->check(CLI::Range(-1, CPU_SETSIZE - 1));
   app.add_option("--cpu-wake-latency-us", cpu_wake_latency_us,
                  "PM QoS while serving: idle CPUs wake within this (0 = poll), -1 = no request [us]")->check(CLI::Range(-1, 100000));
   app.add_option("--heartbeat-fd", options.heartbeat_fd,
@@ -62,6 +69,16 @@ int main(int argc, char** argv) {
       return 2;
     }
     effects.push_back(*effect);
+  }
+  if (cpu >= 0) {  // before any thread starts: the physics thread inherits the mask
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    if (sched_setaffinity(0, sizeof one, &one) != 0) {
+      std::cerr << "rig-sim: --cpu " << cpu << ": cannot run there (" << std::strerror(errno) << "; CPUs here: 0-"
+                << std::thread::hardware_concurrency() - 1 << ")\n";
+      return 2;
+    }
   }
   try {
     rig::sim::RigPhysics rig(physics, effects);

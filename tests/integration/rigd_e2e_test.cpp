@@ -6,6 +6,9 @@
 
 #include <filesystem>
 #include <fstream>
+#include <thread>
+#include <utility>
+#include <vector>
 
 #include "archive.hpp"
 #include "sqlite_handle.hpp"
@@ -20,6 +23,40 @@ using testing::RigProcesses;
 using testing::ScratchDir;
 
 const std::string kRun = R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"post_mortem_h":1.5,"meta":{"temperature_C":"21"}})";
+
+// name -> CPUs it may run on ("Cpus_allowed_list"), for every thread of a process.
+std::vector<std::pair<std::string, std::string>> thread_cpus(pid_t pid) {
+  std::vector<std::pair<std::string, std::string>> threads;
+  for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    std::ifstream comm(task.path() / "comm"), status(task.path() / "status");
+    std::string name, line, cpus;
+    std::getline(comm, name);
+    while (std::getline(status, line)) {
+      if (line.rfind("Cpus_allowed_list:", 0) == 0) cpus = line.substr(line.find_first_not_of(" \t", 18));
+    }
+    threads.emplace_back(name, cpus);
+  }
+  return threads;
+}
+
+TEST(RigdEndToEnd, TheSimulatedDaqAndRigdsLoopShareOneCpuSoThatACpuHeldStillStopsBoth) {
+  ScratchDir dir("e2e-one-cpu");
+  RigProcesses rig(dir);
+  const auto sim = thread_cpus(rig.sim().pid());
+  ASSERT_GE(sim.size(), 2U) << "rig-sim's server and physics threads";
+  const std::string cpu = sim.front().second;
+  for (const auto& [name, cpus] : sim) EXPECT_EQ(cpus, cpu) << "rig-sim thread " << name;
+  if (std::thread::hardware_concurrency() > 1) {
+    EXPECT_EQ(cpu.find_first_of(",-"), std::string::npos) << "one CPU, not " << cpu;
+  }
+  int loops = 0;
+  for (const auto& [name, cpus] : thread_cpus(rig.rigd().pid())) {
+    if (name != "rigd-loop") continue;
+    ++loops;
+    EXPECT_EQ(cpus, cpu) << "rigd's loop runs where rig-sim runs";
+  }
+  EXPECT_EQ(loops, 1);
+}
 
 TEST(RigdEndToEnd, ACutThroughTheApiIsArchivedCompleteWithItsMetadata) {
   ScratchDir dir("e2e-cut");

@@ -16,6 +16,7 @@
 
 #include "busy_machine.hpp"
 #include "child_process.hpp"
+#include "cpu_stall_probe.hpp"
 #include "test_paths.hpp"
 
 namespace rig {
@@ -97,6 +98,7 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
 TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWithoutAnAccidentalFault) {
   ScratchDir dir("loaded-demo");
   testing::BusyMachine busy(dir);
+  testing::CpuStallProbe probe;  // what the machine itself did to time meanwhile
   constexpr int kRounds = 25;  // two cuts per round
   int completed = 0;
   std::vector<std::string> faults;
@@ -117,6 +119,8 @@ TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWitho
   }
   std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n", 2 * kRounds, completed, faults.size());
   for (const auto& f : faults) std::printf("LOAD-FAULT | %s\n", f.c_str());
+  probe.stop();
+  std::printf("LOAD-STALLS | the machine held a CPU-pinned SCHED_FIFO 99 thread: %s\n", probe.summary(10.0).c_str());
   std::fflush(stdout);
   EXPECT_EQ(completed, 2 * kRounds);
   EXPECT_TRUE(faults.empty());

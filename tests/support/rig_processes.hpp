@@ -12,6 +12,7 @@
 
 #include "api_client.hpp"
 #include "child_process.hpp"
+#include "shared_cpu.hpp"
 #include "test_paths.hpp"
 #include "timing_fault.hpp"
 
@@ -38,6 +39,7 @@ class RigProcesses {
                         std::vector<std::string> rigd_sets = {}, std::vector<std::string> rigd_launcher = {})
       : dir_(&dir), rigd_launcher_(std::move(rigd_launcher)) {
     std::vector<std::string> sim = {bin("rig-sim"), "--port", "0"};
+    if (cpu_ >= 0) sim.insert(sim.end(), {"--cpu", std::to_string(cpu_)});  // as rig demo does (shared_cpu.hpp)
     sim.insert(sim.end(), sim_args.begin(), sim_args.end());
     sim_ = std::make_unique<cli::ChildProcess>(sim, dir.file("rig-sim.log"));
     const std::string line = sim_->wait_for_line("listening on", 10000);
@@ -63,6 +65,7 @@ class RigProcesses {
     std::vector<std::string> args = {bin("rigd"), "--config", source("config/rigd.sim.toml"),
                                      "--set", "daq.port=" + std::to_string(sim_port_), "--set", "api.port=0",
                                      "--set", "archive.path=\"" + archive_path() + "\""};
+    if (cpu_ >= 0) args.insert(args.end(), {"--set", "loop.cpu=" + std::to_string(cpu_)});
     if (kSanitizedRig) {
       args.insert(args.end(), {"--set", "safety.link_lost_after_ms=" + std::to_string(kSimLinkLostAfter_ms), "--set",
                                "daq.watchdog_ms=" + std::to_string(static_cast<int>(kSimDaqWatchdog_ms))});
@@ -188,6 +191,7 @@ class RigProcesses {
  private:
   const ScratchDir* dir_;
   std::unique_ptr<cli::ChildProcess> sim_;
+  const int cpu_ = cli::pick_shared_cpu();  // rig-sim and rigd's loop on one CPU: a stalled CPU stops both
   std::unique_ptr<cli::ChildProcess> rigd_;
   std::vector<std::string> rigd_sets_;
   std::vector<std::string> rigd_launcher_;
