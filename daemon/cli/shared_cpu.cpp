@@ -3,6 +3,7 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <vector>
 
 namespace rig::cli {
@@ -16,7 +17,8 @@ int pick_shared_cpu() {
     if (CPU_ISSET(cpu, &allowed)) cpus.push_back(cpu);
   }
   if (cpus.size() < 2) return -1;  // nothing to choose: everything runs on that one CPU
-  return cpus[static_cast<std::size_t>(getpid()) % cpus.size()];
+  static std::atomic<unsigned> rigs_started{0};  // several rigs of one process take turns
+  return cpus[(static_cast<std::size_t>(getpid()) + rigs_started.fetch_add(1)) % cpus.size()];
 }
 
 }  // namespace rig::cli

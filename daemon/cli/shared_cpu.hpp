@@ -8,8 +8,9 @@
 
 namespace rig::cli {
 
-// One of the CPUs this process may run on, spread by process id (two rigs side by side may
-// share one; that is fine: both pairs stop together). -1 when there is only one CPU.
+// One of the CPUs this process may run on, spread by process id and, within one process, by
+// call (two rigs side by side may share one; that is fine: both pairs stop together).
+// -1 when there is only one CPU.
 int pick_shared_cpu();
 
 }  // namespace rig::cli
