@@ -27,6 +27,7 @@ struct DemoOptions {
   std::string web_root;
   std::string state_dir = "demo-state";
   int port = 8080;
+  int cpu = -1;  // rig-sim's and rigd's loop's CPU, -1 = chosen (pick_shared_cpu)
   bool once = false;
   double iop_mmHg = 15.0;
   double velocity_mm_s = 2.0;
@@ -143,21 +144,27 @@ void print_summary(const nlohmann::json& j) {
                {"live overlay", j["overlay_url"]}});
 }
 
+// rigd against the demo's rig-sim: its port, the demo's archive, the API port asked for (when free),
+// the shared CPU (-1 = none) and the page's assets.
+std::vector<std::string> rigd_arguments(const DemoOptions& o, const std::string& sim_port, const std::string& archive_path, int cpu) {
+  const int api_port = port_free(o.port) ? o.port : 0;
+  std::vector<std::string> args = {o.rigd, "--config", o.config, "--set", "daq.port=" + sim_port,
+                                   "--set", "api.port=" + std::to_string(api_port), "--set", "archive.path=\"" + archive_path + "\""};
+  if (cpu >= 0) args.insert(args.end(), {"--set", "loop.cpu=" + std::to_string(cpu)});
+  if (!o.web_root.empty()) args.insert(args.end(), {"--set", "api.web_root=\"" + o.web_root + "\""});
+  return args;
+}
+
 int run_demo(const CliContext& c, const DemoOptions& o) {
   std::filesystem::create_directories(o.state_dir);
   const std::string state = std::filesystem::absolute(o.state_dir).string();
   const std::string archive_path = state + "/archive.sqlite";
-  const int cpu = pick_shared_cpu();  // rig-sim and rigd's loop stop together (shared_cpu.hpp)
+  const int cpu = o.cpu >= 0 ? o.cpu : pick_shared_cpu();  // rig-sim and rigd's loop stop together (shared_cpu.hpp)
   std::vector<std::string> sim_args = {o.sim, "--port", "0"};
   if (cpu >= 0) sim_args.insert(sim_args.end(), {"--cpu", std::to_string(cpu)});
   ChildProcess sim(sim_args, state + "/rig-sim.log");
   const std::string listening = sim.wait_for_line("listening on", 10000);
-  const std::string sim_port = listening.substr(listening.rfind(':') + 1);
-  const int api_port = port_free(o.port) ? o.port : 0;
-  std::vector<std::string> rigd_args = {o.rigd, "--config", o.config, "--set", "daq.port=" + sim_port,
-                                        "--set", "api.port=" + std::to_string(api_port), "--set", "archive.path=\"" + archive_path + "\""};
-  if (cpu >= 0) rigd_args.insert(rigd_args.end(), {"--set", "loop.cpu=" + std::to_string(cpu)});
-  if (!o.web_root.empty()) rigd_args.insert(rigd_args.end(), {"--set", "api.web_root=\"" + o.web_root + "\""});
+  const std::vector<std::string> rigd_args = rigd_arguments(o, listening.substr(listening.rfind(':') + 1), archive_path, cpu);
   ChildProcess rigd(rigd_args, state + "/rigd.log");
   const std::string ready = rigd.wait_for_line("ready, API on", 15000);
   const ApiClient api(ready.substr(ready.find("http://")), "");
@@ -215,6 +222,7 @@ void add_demo_command(CLI::App& app, CliContext& c, int& exit_code) {
   demo->add_option("--web-root", o->web_root, "overlay page directory");
   demo->add_option("--state-dir", o->state_dir, "where the demo's archive and logs go");
   demo->add_option("--port", o->port, "API port (a free one if taken)");
+  demo->add_option("--cpu", o->cpu, "CPU for rig-sim and rigd's loop together, -1 = chosen among the allowed ones")->check(CLI::Range(-1, 1023));
   demo->add_option("--iop", o->iop_mmHg, "IOP [mmHg]");
   demo->add_option("--velocity", o->velocity_mm_s, "cutting velocity [mm/s]");
   demo->add_option("--depth", o->depth_mm, "insertion depth [mm]");

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <future>
 
 namespace rig::service {
 
@@ -22,9 +23,14 @@ RtThreadReport lock_process_memory(bool lock) {
 }
 
 std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body, RtThreadReport& report) {
-  std::thread thread(std::move(body));
+  // The body waits until name, priority and CPU are set: its first cycle already runs as configured.
+  std::promise<void> configured;
+  std::thread thread([body = std::move(body), go = configured.get_future()]() mutable {
+    go.wait();
+    body();
+  });
   const pthread_t handle = thread.native_handle();
-  pthread_setname_np(handle, "rigd-loop");  // `top -H`, `ps -L` and the tests find it by name
+  pthread_setname_np(handle, options.name);
   if (options.priority > 0) {
     sched_param param{};
     param.sched_priority = options.priority;
@@ -47,6 +53,7 @@ std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()
       report.warnings.push_back("pinning the loop to CPU " + std::to_string(options.cpu) + " failed: " + std::strerror(rc));
     }
   }
+  configured.set_value();
   return thread;
 }
 

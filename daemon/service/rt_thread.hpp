@@ -14,6 +14,7 @@ struct RtThreadOptions {
   int priority = 80;  // 0 = normal scheduling
   int cpu = -1;
   bool lock_memory = true;
+  const char* name = "rigd-loop";  // the thread's name (15 characters at most): `top -H`, `ps -L`, the tests
 };
 
 struct RtThreadReport {

@@ -23,10 +23,59 @@ namespace {
 std::atomic<bool> g_stop{false};
 void on_signal(int /*signal*/) { g_stop.store(true); }
 
-}  // namespace
+bool parse_effects(const std::vector<std::string>& specs, std::vector<rig::sim::HiddenEffect>& effects) {
+  for (const auto& spec : specs) {
+    std::string error;
+    const auto effect = rig::sim::parse_hidden_effect(spec, error);
+    if (!effect) {
+      std::cerr << "rig-sim: --effect " << error << "\n";
+      return false;
+    }
+    effects.push_back(*effect);
+  }
+  return true;
+}
 
-int main(int argc, char** argv) {
-  CLI::App app{"rig-sim: simulated keratome rig (DC motor + lead screw, cornea, IOP line, DAQ) on Modbus TCP"};
+// --cpu: every thread on that CPU (rig demo and the tests put rigd's loop there too, so a CPU
+// the machine holds still stops the simulated DAQ and the loop together).
+bool pin_to_cpu(int cpu) {
+  if (cpu < 0) return true;
+  cpu_set_t allowed;
+  CPU_ZERO(&allowed);
+  sched_getaffinity(0, sizeof allowed, &allowed);
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(cpu, &one);
+  if (CPU_ISSET(cpu, &allowed) && sched_setaffinity(0, sizeof one, &one) == 0) return true;
+  std::string cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c) {
+    if (CPU_ISSET(c, &allowed)) cpus += (cpus.empty() ? "" : ",") + std::to_string(c);
+  }
+  std::cerr << "rig-sim: --cpu " << cpu << ": not a CPU this process may run on (" << cpus << ")\n";
+  return false;
+}
+
+// A DAQ box answers at once: real-time priority (the physics thread started by run() inherits
+// it), memory locked, and idle CPUs kept quick to wake (the request is held by the caller).
+void answer_like_a_daq(int rt_priority, bool lock_memory, int cpu_wake_latency_us,
+                       const rig::drivers::CpuWakeLatencyRequest& wake_latency) {
+  if (rt_priority > 0) {
+    sched_param param{};
+    param.sched_priority = rt_priority;
+    if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) {
+      std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
+    }
+  }
+  if (lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+    std::cerr << "rig-sim: warning: mlockall refused, page faults may delay replies\n";
+  }
+  if (cpu_wake_latency_us >= 0 && !wake_latency.held()) {
+    std::cerr << "rig-sim: warning: " << wake_latency.why_not() << ": idle CPUs may wake late for requests\n";
+  }
+}
+
+// rig-sim's command line.
+struct SimCommandLine {
   rig::sim::SimServerOptions options;
   rig::sim::PhysicsParams physics;
   std::vector<std::string> effect_specs;
@@ -36,76 +85,58 @@ int main(int argc, char** argv) {
   int cpu_wake_latency_us = 0;
   int cpu = -1;
   bool lock_memory = true;
+};
+
+void declare_options(CLI::App& app, SimCommandLine& c) {
+  auto& options = c.options;
+  auto& physics = c.physics;
   app.add_option("--bind", options.bind, "address to listen on (loopback by default)");
   app.add_option("--port", options.port, "TCP port, 0 = any free port")->check(CLI::Range(0, 65535));
   app.add_option("--rtu", options.rtu_device, "also serve Modbus RTU on this serial device (e.g. a socat pty)");
   app.add_option("--rtu-baud", options.rtu_baud, "RTU baud rate")->check(CLI::Range(1200, 4000000));
-  app.add_option("--port-file", port_file, "write the port here once listening");
+  app.add_option("--port-file", c.port_file, "write the port here once listening");
   app.add_option("--seed", physics.seed, "random seed (noise, per-eye variation)");
-  app.add_option("--effect", effect_specs, "hide an effect: name[:form][=size] or covariate:KEY[:form][=size]");
-  app.add_option("--covariate-value", covariate, "value of the hidden covariate for the mounted eyes");
+  app.add_option("--effect", c.effect_specs, "hide an effect: name[:form][=size] or covariate:KEY[:form][=size]");
+  app.add_option("--covariate-value", c.covariate, "value of the hidden covariate for the mounted eyes");
   app.add_option("--surface-mm", physics.tissue.surface_mm, "carriage position of the corneal surface [mm]");
   app.add_option("--eye-variability", physics.tissue.eye_variability, "spread of the eyes: 1 = default (docs/sim.md), 0 = identical eyes");
   app.add_option("--force-noise-N", physics.sensors.force_noise_N, "load-cell noise, 1 sigma [N]");
-  app.add_option("--rt-priority", rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
-  app.add_option("--cpu", cpu,
+  app.add_option("--rt-priority", c.rt_priority, "SCHED_FIFO priority of the server and physics threads (a DAQ answers at once), 0 = none");
+  app.add_option("--cpu", c.cpu,
                  "pin every thread to this CPU, -1 = any (rig demo and the tests pin rig-sim and rigd's loop to one CPU: "
                  "a stalled CPU then stops both)")->check(CLI::Range(-1, CPU_SETSIZE - 1));
-  app.add_option("--cpu-wake-latency-us", cpu_wake_latency_us,
+  app.add_option("--cpu-wake-latency-us", c.cpu_wake_latency_us,
                  "PM QoS while serving: idle CPUs wake within this (0 = poll), -1 = no request [us]")->check(CLI::Range(-1, 100000));
   app.add_option("--heartbeat-fd", options.heartbeat_fd,
                  "write a heartbeat line (CLOCK_MONOTONIC now and age of the last DAQ read [us]) to this open descriptor, -1 = none")
       ->check(CLI::Range(-1, 1 << 20));
   app.add_option("--heartbeat-ms", options.heartbeat_ms, "heartbeat period [ms]")->check(CLI::Range(1, 60000));
-  app.add_flag("!--no-lock-memory", lock_memory, "do not mlockall (page faults may then delay replies)");
+  app.add_flag("!--no-lock-memory", c.lock_memory, "do not mlockall (page faults may then delay replies)");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"rig-sim: simulated keratome rig (DC motor + lead screw, cornea, IOP line, DAQ) on Modbus TCP"};
+  SimCommandLine c;
+  declare_options(app, c);
   CLI11_PARSE(app, argc, argv);
 
   std::vector<rig::sim::HiddenEffect> effects;
-  for (const auto& spec : effect_specs) {
-    std::string error;
-    const auto effect = rig::sim::parse_hidden_effect(spec, error);
-    if (!effect) {
-      std::cerr << "rig-sim: --effect " << error << "\n";
-      return 2;
-    }
-    effects.push_back(*effect);
-  }
-  if (cpu >= 0) {  // before any thread starts: the physics thread inherits the mask
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(cpu, &one);
-    if (sched_setaffinity(0, sizeof one, &one) != 0) {
-      std::cerr << "rig-sim: --cpu " << cpu << ": cannot run there (" << std::strerror(errno) << "; CPUs here: 0-"
-                << std::thread::hardware_concurrency() - 1 << ")\n";
-      return 2;
-    }
-  }
+  if (!parse_effects(c.effect_specs, effects)) return 2;
+  if (!pin_to_cpu(c.cpu)) return 2;  // before any thread starts: the physics thread inherits the mask
   try {
-    rig::sim::RigPhysics rig(physics, effects);
-    rig.set_next_eye_covariate(covariate);
-    rig.mount_new_eye(covariate);
-    rig::sim::ModbusSimServer server(rig, options);
+    rig::sim::RigPhysics rig(c.physics, effects);
+    rig.set_next_eye_covariate(c.covariate);
+    rig.mount_new_eye(c.covariate);
+    rig::sim::ModbusSimServer server(rig, c.options);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
-    if (!port_file.empty()) std::ofstream(port_file) << server.port() << "\n";
-    // A DAQ box answers from its own CPU: real-time priority (the physics thread started by
-    // run() inherits it), memory locked, and idle CPUs kept quick to wake.
-    if (rt_priority > 0) {
-      sched_param param{};
-      param.sched_priority = rt_priority;
-      if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) != 0) {
-        std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
-      }
-    }
-    if (lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
-      std::cerr << "rig-sim: warning: mlockall refused, page faults may delay replies\n";
-    }
-    const rig::drivers::CpuWakeLatencyRequest wake_latency(cpu_wake_latency_us);
-    if (cpu_wake_latency_us >= 0 && !wake_latency.held()) {
-      std::cerr << "rig-sim: warning: " << wake_latency.why_not() << ": idle CPUs may wake late for requests\n";
-    }
-    if (!options.rtu_device.empty()) std::cout << "rig-sim: Modbus RTU on " << options.rtu_device << std::endl;
-    std::cout << "rig-sim: listening on " << options.bind << ":" << server.port() << std::endl;
+    if (!c.port_file.empty()) std::ofstream(c.port_file) << server.port() << "\n";
+    const rig::drivers::CpuWakeLatencyRequest wake_latency(c.cpu_wake_latency_us);
+    answer_like_a_daq(c.rt_priority, c.lock_memory, c.cpu_wake_latency_us, wake_latency);
+    if (!c.options.rtu_device.empty()) std::cout << "rig-sim: Modbus RTU on " << c.options.rtu_device << std::endl;
+    std::cout << "rig-sim: listening on " << c.options.bind << ":" << server.port() << std::endl;
     server.run(g_stop);
     std::cout << "rig-sim: reply time " << server.reply_time().summary() << "; gap between replies "
               << server.reply_gap().summary() << "; physics clock late " << server.physics_lateness().summary()

@@ -26,7 +26,7 @@ class ModbusProtocolTest : public ::testing::Test {
   void SetUp() override {
     server_ = std::make_unique<sim::ModbusSimServer>(physics_, sim::SimServerOptions{"127.0.0.1", 0});
     thread_ = std::thread([this] { server_->run(stop_); });
-    // The simulated DAQ answers from "its own CPU", as rig-sim does: on a busy machine a
+    // The simulated DAQ answers at real-time priority, as rig-sim does: on a busy machine a
     // normally scheduled server thread can stay off the CPU past any time-out.
     sched_param param{};
     param.sched_priority = 70;

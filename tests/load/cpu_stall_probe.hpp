@@ -1,7 +1,7 @@
 #pragma once
 // What the machine itself does to time under load: one thread per CPU, pinned there at
 // SCHED_FIFO 99 (when allowed), sleeps 1 ms on absolute deadlines and notes every wake more
-// than 5 ms late. At that priority only the machine can hold it: a VM's vCPU throttled by its
+// than 5 ms late (docs/loop-timing.md's first measurement noted those over 3 ms). At that priority only the machine can hold it: a VM's vCPU throttled by its
 // host, or the kernel. A stall of one CPU while another runs is what separates a simulated DAQ
 // from the loop it answers (daemon/cli/shared_cpu.hpp); the load tier prints the counts.
 #include <pthread.h>
@@ -27,9 +27,15 @@ class CpuStallProbe {
   };
 
   CpuStallProbe() {
-    const int cpus = static_cast<int>(std::max(1U, std::thread::hardware_concurrency()));
-    stalls_.resize(static_cast<std::size_t>(cpus));
-    for (int cpu = 0; cpu < cpus; ++cpu) threads_.emplace_back([this, cpu] { watch(cpu); });
+    cpu_set_t allowed;
+    CPU_ZERO(&allowed);
+    sched_getaffinity(0, sizeof allowed, &allowed);
+    std::vector<int> cpus;
+    for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu) {
+      if (CPU_ISSET(cpu, &allowed)) cpus.push_back(cpu);
+    }
+    stalls_.resize(cpus.size());
+    for (std::size_t i = 0; i < cpus.size(); ++i) threads_.emplace_back([this, i, cpu = cpus[i]] { watch(i, cpu); });
   }
   ~CpuStallProbe() { stop(); }
   CpuStallProbe(const CpuStallProbe&) = delete;
@@ -54,8 +60,9 @@ class CpuStallProbe {
       }
     }
     char line[200];
-    std::snprintf(line, sizeof line, "%d stalls >= %.0f ms (one CPU while another ran: %d, every CPU at once: %d), longest %.1f ms%s",
-                  alone + together, threshold_ms, alone, together, longest_ms, realtime_ ? "" : " (not SCHED_FIFO: also the guest's own load)");
+    std::snprintf(line, sizeof line, "%d stalls >= %.0f ms (one CPU while another ran: %d, every CPU at once: %d), longest %.1f ms%s%s",
+                  alone + together, threshold_ms, alone, together, longest_ms, realtime_ ? "" : " (not SCHED_FIFO: also the guest's own load)",
+                  pinned_ ? "" : " (not pinned: CPUs mixed up)");
     return line;
   }
 
@@ -78,15 +85,15 @@ class CpuStallProbe {
     return stalls_.size() > 1;
   }
 
-  void watch(int cpu) {
+  void watch(std::size_t slot, int cpu) {
     cpu_set_t one;
     CPU_ZERO(&one);
     CPU_SET(cpu, &one);
-    pthread_setaffinity_np(pthread_self(), sizeof one, &one);
+    if (pthread_setaffinity_np(pthread_self(), sizeof one, &one) != 0) pinned_ = false;
     sched_param top{};
     top.sched_priority = 99;
     if (pthread_setschedparam(pthread_self(), SCHED_FIFO, &top) != 0) realtime_ = false;
-    std::vector<Stall>& mine = stalls_[static_cast<std::size_t>(cpu)];
+    std::vector<Stall>& mine = stalls_[slot];
     mine.reserve(1 << 16);
     std::int64_t deadline = now_ns();
     while (!stop_.load(std::memory_order_relaxed)) {
@@ -103,6 +110,7 @@ class CpuStallProbe {
   std::vector<std::thread> threads_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> realtime_{true};
+  std::atomic<bool> pinned_{true};
 };
 
 }  // namespace rig::testing

@@ -32,11 +32,16 @@ TEST(SharedCpu, TwoRigsOfOneProcessGetTwoDifferentCpusBothAllowedToIt) {
 }
 
 TEST(SharedCpu, AProcessHeldToOneCpuPinsNothing) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  ASSERT_EQ(sched_getaffinity(0, sizeof set, &set), 0);
+  int first_allowed = 0;
+  while (!CPU_ISSET(first_allowed, &set)) ++first_allowed;
   int picked = 0;
-  std::thread held([&] {  // affinity is per thread: only this one is held to CPU 0
+  std::thread held([&] {  // affinity is per thread: only this one is held to one CPU
     cpu_set_t one;
     CPU_ZERO(&one);
-    CPU_SET(0, &one);
+    CPU_SET(first_allowed, &one);
     ASSERT_EQ(sched_setaffinity(0, sizeof one, &one), 0);
     picked = pick_shared_cpu();
   });
