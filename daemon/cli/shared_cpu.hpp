@@ -1,6 +1,6 @@
 #pragma once
 // The simulated rig's CPU: rig-sim (`--cpu`) and rigd's loop (`loop.cpu`) are pinned to one
-// CPU, so that a CPU the machine holds still (a VM's vCPU throttled by its host: measured 10-20 ms,
+// CPU, so that a CPU the machine holds still (a VM's vCPU throttled by its host: mostly 10-12 ms,
 // docs/loop-timing.md) stops the simulated DAQ and the loop together. A real DAQ has its own
 // CPU and never stalls; a simulated one that stalls apart from rigd is silent while rigd runs
 // (a "lost link") or lets rigd's stall run on its own clock (a "tripped watchdog"). On one CPU,
