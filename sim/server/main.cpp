@@ -81,7 +81,7 @@ struct SimCommandLine {
   std::vector<std::string> effect_specs;
   std::string port_file;
   double covariate = 2.0;
-  int rt_priority = 70;
+  int rt_priority = 81;  // above every rigd loop (80): a DAQ answers whichever loop shares its CPU
   int cpu_wake_latency_us = 0;
   int cpu = -1;
   bool lock_memory = true;

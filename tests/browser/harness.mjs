@@ -1,7 +1,7 @@
 // Shared by the browser tests: rig-sim + rigd as processes, Chromium via playwright-core.
 import { spawn, execFileSync } from "node:child_process";
 import { mkdtempSync, mkdirSync, readFileSync } from "node:fs";
-import { tmpdir } from "node:os";
+import { availableParallelism, tmpdir } from "node:os";
 import { join } from "node:path";
 import net from "node:net";
 import { chromium } from "playwright-core";
@@ -34,15 +34,24 @@ function sanitizedAllowances() {
   return args().sanitized === "1" ? ["--set", "safety.link_lost_after_ms=25", "--set", "daq.watchdog_ms=30"] : [];
 }
 
+// rig-sim and rigd's loop on one CPU, as rig demo and the C++ tests run them
+// (daemon/cli/shared_cpu.hpp: a CPU the machine holds still then stops both).
+let rigsStarted = 0;
+function sharedCpu() {
+  const cpus = availableParallelism();
+  return cpus < 2 ? [] : [(process.pid + rigsStarted++) % cpus];
+}
+
 // extra: further `--set key=value` overrides for rigd.
 export async function startRig(bin, source, archive, extra = []) {
   const dir = mkdtempSync(join(tmpdir(), "rig-browser-"));
   archive = archive || join(dir, "archive.sqlite");
-  const sim = spawn(join(bin, "rig-sim"), ["--port", "0"]);
+  const cpu = sharedCpu();
+  const sim = spawn(join(bin, "rig-sim"), ["--port", "0", ...cpu.flatMap(c => ["--cpu", `${c}`])]);
   const simLine = await waitForLine(sim, "listening on", 10000);
   const port = simLine.trim().split(":").pop();
   const rigd = spawn(join(bin, "rigd"), ["--config", join(source, "config/rigd.sim.toml"), "--set", `daq.port=${port}`,
-    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`, ...sanitizedAllowances(), ...extra.flatMap(kv => ["--set", kv])]);
+    "--set", "api.port=0", "--set", `archive.path="${archive}"`, "--set", `api.web_root="${join(bin, "../web-root")}"`, ...cpu.flatMap(c => ["--set", `loop.cpu=${c}`]), ...sanitizedAllowances(), ...extra.flatMap(kv => ["--set", kv])]);
   const ready = await waitForLine(rigd, "ready, API on", 20000);
   const url = ready.slice(ready.indexOf("http://")).trim();
   return {url, dir, archive, simPort: +port, stop: () => { rigd.kill("SIGTERM"); sim.kill("SIGTERM"); }};

@@ -12,7 +12,7 @@ export RIG_API=http://127.0.0.1:8080
 # rig-sim and rigd's loop share the second vCPU (rig-sim --cpu 1, loop.cpu=1), as rig demo and
 # the tests run them (daemon/cli/shared_cpu.hpp): a vCPU the host holds still stops both, and
 # the loop no longer preempts the recorder (SCHED_FIFO 60) on the first vCPU. rig-sim sets its
-# own SCHED_FIFO 70 (below the loop's 80; until 2026-11-27 a `chrt -f 81` here was undone by it).
+# own SCHED_FIFO 81, above the loop's 80 (until 2026-11-27 its 70 undid a `chrt -f 81` here).
 # Its heartbeat (every 5 ms: the guest's clock and the age of rigd's last DAQ read [us]) goes to
 # the second serial port, which the host reads as it arrives (heartbeat_watch.py).
 rig-sim --cpu 1 --port 1502 --surface-mm 12 --heartbeat-fd 3 --heartbeat-ms 5 \
