@@ -229,7 +229,9 @@ TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault)
   drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
   const model::ForceModel model = model::ForceModel::paper_interpreted();
   ModelForceSource source(model, 15.0);
-  HapticSession session(device, source, ServoSettings{});
+  // The subject is the device's error, not timing: a stall watchdog of 2 s (20 ms by default)
+  // keeps a loaded machine's stall of the servo thread from ending the session first.
+  HapticSession session(device, source, ServoSettings{}, std::chrono::milliseconds(2000));
   std::thread injector([&] {
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     fake.symbol<void (*)(unsigned)>("fake_hd_inject_error")(drivers::hd::kWarmMotors);
@@ -240,6 +242,29 @@ TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault)
   EXPECT_LT(report.wall_s, 2.0);
   EXPECT_EQ(fake.symbol<int (*)()>("fake_hd_force_output_enabled")(), 0);
   EXPECT_EQ(fake.symbol<double (*)()>("fake_hd_last_force_z")(), 0.0);
+}
+
+TEST(OpenHaptics, AStalledServoHasTheDevicesForceOutputTurnedOffWhileItIsStillStalled) {
+  FakeHd fake;
+  ASSERT_NE(fake.handle, nullptr) << dlerror();
+  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
+  const model::ForceModel model = model::ForceModel::paper_interpreted();
+  ModelForceSource source(model, 15.0);
+  HapticSession session(device, source, ServoSettings{});  // the stall watchdog's 20 ms
+  int enabled_before = -1, enabled_during = -1;
+  std::thread injector([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    enabled_before = fake.symbol<int (*)()>("fake_hd_force_output_enabled")();
+    fake.symbol<void (*)(long)>("fake_hd_stall_scheduler")(1500);  // the servo thread stands still 1.5 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));    // well past the watchdog, still stalled
+    enabled_during = fake.symbol<int (*)()>("fake_hd_force_output_enabled")();
+  });
+  const SessionReport report = session.run(nullptr, nullptr, 5.0);
+  injector.join();
+  EXPECT_EQ(enabled_before, 1);
+  EXPECT_EQ(enabled_during, 0) << "force output must go off while the servo is stalled, not when it comes back";
+  EXPECT_TRUE(report.watchdog_tripped);
+  EXPECT_NE(report.fault.find("servo stalled"), std::string::npos) << report.fault;
 }
 
 TEST(OpenHaptics, ADeviceThatFailsToInitialiseIsAClearError) {

@@ -32,6 +32,7 @@ std::atomic<hd::HDerror> g_pending_error{hd::kSuccess};
 std::atomic<hd::HDerror> g_init_error{hd::kSuccess};
 std::atomic<double> g_last_force_z{0.0};
 std::atomic<long> g_frames{0};
+std::atomic<long> g_stall_ms{0};  // the scheduler's next frame comes this much later [ms] (a stalled servo thread)
 // The frames whose stylus was within 0.1 mm of 1 mm below the surface: the force [N] set
 // along z and the true depth [mm], summed (a mean over ~100 frames, so one frame disturbed by
 // a loaded machine does not decide the test).
@@ -59,6 +60,10 @@ void scheduler_loop() {
   while (g_running.load()) {
     next += std::chrono::milliseconds(1);
     std::this_thread::sleep_until(next);
+    if (const long stall_ms = g_stall_ms.exchange(0); stall_ms > 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(stall_ms));
+      next = std::chrono::steady_clock::now();
+    }
     std::lock_guard lock(g_mutex);
     for (Scheduled& s : g_callbacks) {
       if (s.active && s.callback(s.user_data) == hd::kCallbackDone) s.active = false;
@@ -148,6 +153,7 @@ void hdStopScheduler() {
 // Test hooks.
 void fake_hd_inject_error(hd::HDerror code) { g_pending_error.store(code); }
 void fake_hd_fail_init(hd::HDerror code) { g_init_error.store(code); }
+void fake_hd_stall_scheduler(long ms) { g_stall_ms.store(ms); }
 double fake_hd_last_force_z() { return g_last_force_z.load(); }
 int fake_hd_force_output_enabled() { return g_force_output.load() ? 1 : 0; }
 long fake_hd_frames() { return g_frames.load(); }

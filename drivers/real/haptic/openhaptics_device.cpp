@@ -109,7 +109,14 @@ void OpenHapticsDevice::stop() noexcept {
   api_->hdUnschedule(callback_);
 }
 
-void OpenHapticsDevice::force_off() noexcept { force_enabled_.store(false); }
+// Zero force from the next frame, and the amplifiers off now: the stall watchdog calls this from
+// its own thread while the servo thread may be stalled (no frame to write zero force in; the
+// device's own watchdog acts only after ~1 s, notes/probes.md). A stalled servo thread is in
+// no HD call, so the state call does not race a frame.
+void OpenHapticsDevice::force_off() noexcept {
+  force_enabled_.store(false);
+  api_->hdDisable(hd::kForceOutput);
+}
 
 bool OpenHapticsDevice::check_error() noexcept {
   const hd::HDErrorInfo error = api_->hdGetError();
