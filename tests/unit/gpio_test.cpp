@@ -75,6 +75,19 @@ TEST(InputDebouncer, APulseTheKernelLabelledInactiveTwiceIsStillAPress) {
   EXPECT_FALSE(d.read(0, 3 * kMs));
 }
 
+// Found in the QEMU tier under load: a bounce on release whose edges the kernel labelled
+// inactive twice. The line was active in between, so the release is timed from the second.
+TEST(InputDebouncer, ABounceTheKernelLabelledInactiveTwiceRestartsTheReleaseTime) {
+  InputDebouncer d(2 * kMs);
+  const std::array<bool, 1> pressed{true};
+  d.reset(pressed, 0);
+  d.on_edge(0, false, 10 * kMs);
+  d.on_edge(0, false, 10 * kMs + 600'000);  // bounce, labelled after it ended
+  EXPECT_TRUE(d.read(0, 12 * kMs));          // the bounce's latch
+  EXPECT_TRUE(d.read(0, 12 * kMs + 300'000)) << "1.7 ms since the bounce: still pressed";
+  EXPECT_FALSE(d.read(0, 13 * kMs));
+}
+
 struct GpioFixture : ::testing::Test {
   ManualClock clock;
   SimGpioLineBank* bank = nullptr;

@@ -13,8 +13,10 @@ void InputDebouncer::on_edge(std::size_t input, bool active, std::int64_t timest
   // when it handles the interrupt, so a pulse shorter than that latency (a slap on the
   // e-stop, seen under a loaded or emulated kernel) arrives as two edges to "inactive". A
   // line does not change without going somewhere: treat it as a press, never lose it.
+  // The same edge during a release is a bounce: the line was active again in between, so the
+  // wait for it to stay inactive restarts there, as for a correctly labelled bounce.
   if (!active && !line.raw) line.latched = true;
-  if (line.raw != active) line.raw_since_ns = timestamp_ns;  // repeated levels extend nothing
+  if (line.raw != active || !active) line.raw_since_ns = timestamp_ns;
   line.raw = active;
   if (active) {
     line.stable = true;
