@@ -207,6 +207,9 @@ void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
 void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   CycleInput in;
   read_inputs(in, now_ns, latency_ns);
+  // The cycle that ends a run (its fault, stop or completion) is the run's last sample: the
+  // archive then shows the cycle that saw the fault and its 0 V command, not the one before.
+  const std::int64_t run_open_before = machine_.recording_run_id();
   drain_commands(in);
   const InterlockVerdict verdict = interlocks_.check(in, machine_, controller_.following_error_mm());
   if (verdict.code != FaultCode::kNone) machine_.fault(verdict.code, verdict.value, in);
@@ -214,7 +217,8 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   const MotionRequest motion = machine_.step(in, arrived_ && std::abs(in.velocity_mm_s) < kAtRest_mm_s);
   drivers::DriveCommand command = control(in, motion);
   note_write(write_outputs(command), in.io_ok);
-  publish(in, command, static_cast<float>(latency_ns) * 1e-3F);
+  publish(in, command, static_cast<float>(latency_ns) * 1e-3F,
+          run_open_before != 0 ? run_open_before : machine_.recording_run_id());
   if (machine_.state() == RunState::kFault && command.motor_enable) {
     command = drivers::DriveCommand{};  // publish() faulted the run: stop now, not next cycle
     note_write(write_outputs(command), in.io_ok);
@@ -224,10 +228,11 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   ch_->counters.cycles.store(cycle_, std::memory_order_relaxed);
 }
 
-void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept {
+void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us,
+                          std::int64_t run_id) noexcept {
   Sample sample;
   sample.cycle = cycle_;
-  sample.run_id = machine_.recording_run_id();
+  sample.run_id = run_id;
   sample.t_s = in.t_s;
   sample.position_mm = in.position_mm;
   sample.force_N = in.force_N;

@@ -51,7 +51,8 @@ class ControlLoop final : public EventSink {
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
   drivers::IoStatus write_outputs(const drivers::DriveCommand& command) noexcept;  // the first failure
   void note_write(drivers::IoStatus written, bool read_ok) noexcept;
-  void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us) noexcept;
+  // run_id: the run this cycle's sample belongs to (0: none) [archive run id].
+  void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us, std::int64_t run_id) noexcept;
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
   bool note_missed(std::int64_t missed_deadlines) noexcept;
   void shut_down() noexcept;
