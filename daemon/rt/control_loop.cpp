@@ -16,9 +16,26 @@ ControlLoop::ControlLoop(const LoopSettings& settings, const LoopHardware& hardw
       period_ns_(static_cast<std::int64_t>(std::llround(1e9 / settings.rate_hz))),
       max_step_s_(std::max(10.0 * static_cast<double>(period_ns_), settings.daq_watchdog_ms * 1e6 + 5.0 * static_cast<double>(period_ns_)) * 1e-9) {}
 
+// Inside a cycle, before its sample is out, events wait in held_events_: the recorder must
+// find a cycle's sample in its ring once it has that cycle's events (a run's end and the
+// run's last sample go into one commit). Past the capacity, events go out at once.
 void ControlLoop::emit(const Event& event) noexcept {
+  if (holding_events_ && held_count_ < held_events_.size()) {
+    held_events_[held_count_++] = event;
+    return;
+  }
+  push_event(event);
+}
+
+void ControlLoop::push_event(const Event& event) noexcept {
   if (!ch_->recorder_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
   if (!ch_->stream_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
+}
+
+void ControlLoop::release_held_events() noexcept {
+  holding_events_ = false;
+  for (std::size_t i = 0; i < held_count_; ++i) push_event(held_events_[i]);
+  held_count_ = 0;
 }
 
 void ControlLoop::start_timing() noexcept {
@@ -210,6 +227,7 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   // The cycle that ends a run (its fault, stop or completion) is the run's last sample: the
   // archive then shows the cycle that saw the fault and its 0 V command, not the one before.
   const std::int64_t run_open_before = machine_.recording_run_id();
+  holding_events_ = true;
   drain_commands(in);
   const InterlockVerdict verdict = interlocks_.check(in, machine_, controller_.following_error_mm());
   if (verdict.code != FaultCode::kNone) machine_.fault(verdict.code, verdict.value, in);
@@ -219,6 +237,7 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   note_write(write_outputs(command), in.io_ok);
   publish(in, command, static_cast<float>(latency_ns) * 1e-3F,
           run_open_before != 0 ? run_open_before : machine_.recording_run_id());
+  release_held_events();
   if (machine_.state() == RunState::kFault && command.motor_enable) {
     command = drivers::DriveCommand{};  // publish() faulted the run: stop now, not next cycle
     note_write(write_outputs(command), in.io_ok);

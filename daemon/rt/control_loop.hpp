@@ -56,6 +56,8 @@ class ControlLoop final : public EventSink {
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
   bool note_missed(std::int64_t missed_deadlines) noexcept;
   void shut_down() noexcept;
+  void push_event(const Event& event) noexcept;
+  void release_held_events() noexcept;
 
   LoopSettings s_;
   LoopHardware hw_;
@@ -72,6 +74,10 @@ class ControlLoop final : public EventSink {
   std::int64_t previous_now_ns_ = 0;
   std::uint64_t cycle_ = 0;
   bool timing_started_ = false;
+  // A cycle's events until its sample is published (see emit); a cycle emits a handful.
+  std::array<Event, 16> held_events_{};
+  std::size_t held_count_ = 0;
+  bool holding_events_ = false;
   bool arrived_ = false;
   bool overrun_storm_ = false;
   int consecutive_misses_ = 0;

@@ -154,7 +154,7 @@ void Recorder::run() {
   }
 }
 
-std::size_t Recorder::drain() {
+std::size_t Recorder::append_waiting_samples() {
   std::size_t count = 0;
   rt::Sample sample;
   while (channels_->recorder.try_pop(sample)) {
@@ -164,6 +164,11 @@ std::size_t Recorder::drain() {
     ++count;
   }
   stats_.samples_written.fetch_add(count);
+  return count;
+}
+
+std::size_t Recorder::drain() {
+  const std::size_t count = append_waiting_samples();
   rt::Event event;
   while (channels_->recorder_events.try_pop(event)) {
     if (!dirty_) archive_->begin();
@@ -197,6 +202,9 @@ void Recorder::handle(const rt::Event& e) {
       archive_->add_event(e.run_id, e.t_s, "run_started", "cutting started");
       break;
     case EventKind::kRunEnded: {
+      // The loop pushes a cycle's sample before that cycle's events, so the run's last sample
+      // (the cycle that ended it) is in the ring now: it goes into the same commit as the end.
+      append_waiting_samples();
       const bool faulted = e.fault != rt::FaultCode::kNone;
       const std::string outcome = faulted ? "fault" : (e.value > 0.5 ? "stopped" : "completed");
       const std::string reason = faulted ? last_fault_ : (e.value > 0.5 ? "stopped by the operator" : "");

@@ -37,6 +37,7 @@ class Recorder {
  private:
   void run();
   std::size_t drain();
+  std::size_t append_waiting_samples();  // every sample in the loop's ring now [samples]
   void handle(const rt::Event& event);
   void flush();
   using Clock = std::chrono::steady_clock;

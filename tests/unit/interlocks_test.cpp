@@ -48,17 +48,22 @@ class InterlockTest : public ::testing::Test {
   }
 
   void expect_run_kept_with(FaultCode fault) {
-    bool ended = false;
+    const rt::Event* ended = nullptr;
     for (const auto& e : events_) {
       if (e.kind == rt::EventKind::kRunEnded) {
-        ended = true;
+        ended = &e;
         EXPECT_EQ(e.run_id, 42);
         EXPECT_EQ(e.fault, fault);
       }
     }
-    EXPECT_TRUE(ended) << "the run must be closed with the fault";
+    ASSERT_NE(ended, nullptr) << "the run must be closed with the fault";
     ASSERT_GT(samples_.size(), 1000U) << "samples up to the fault are kept";
-    EXPECT_EQ(samples_.back().run_id, 42);
+    const rt::Sample& last = samples_.back();
+    EXPECT_EQ(last.run_id, 42);
+    // The run keeps the cycle that ended it: the fault cycle's own sample, motor at 0 V.
+    EXPECT_EQ(last.t_s, ended->t_s) << "the run's last sample is not the cycle that ended it";
+    EXPECT_TRUE(last.state == RunState::kFault || last.state == RunState::kEStop) << rt::to_string(last.state);
+    EXPECT_EQ(last.motor_volts, 0.0) << "the fault cycle commands 0 V";
   }
 
   sim::SimulatedRig rig_;
