@@ -189,14 +189,20 @@ struct FakeHd {
   F symbol(const char* name) const { return reinterpret_cast<F>(dlsym(handle, name)); }
 };
 
-TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReports) {
+// The stand-in libHD opened as a Phantom, and the paper's model at 15 mmHg to feel through it
+// (the device's constructor names the library if it cannot be loaded).
+struct FakePhantom {
   FakeHd fake;
-  ASSERT_NE(fake.handle, nullptr) << dlerror();
-  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
+  drivers::OpenHapticsDevice device{RIG_FAKE_LIBHD};
+  const model::ForceModel model = model::ForceModel::paper_interpreted();
+  ModelForceSource source{model, 15.0};
+};
+
+TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReports) {
+  FakePhantom phantom;
+  auto& [fake, device, model, source] = phantom;
   EXPECT_DOUBLE_EQ(device.limits().max_continuous_force_N, 0.6);
   EXPECT_DOUBLE_EQ(device.limits().max_stiffness_N_per_mm, 0.9);
-  const model::ForceModel model = model::ForceModel::paper_interpreted();
-  ModelForceSource source(model, 15.0);
   ServoSettings servo;
   servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the fake stylus reaches it 1.5 s after the first frame
   // Not a watchdog test (TheWatchdogTurnsForceOff… is): 500 ms, so a loaded machine's stall of
@@ -224,11 +230,8 @@ TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReport
 }
 
 TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault) {
-  FakeHd fake;
-  ASSERT_NE(fake.handle, nullptr) << dlerror();
-  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
-  const model::ForceModel model = model::ForceModel::paper_interpreted();
-  ModelForceSource source(model, 15.0);
+  FakePhantom phantom;
+  auto& [fake, device, model, source] = phantom;
   // The subject is the device's error, not timing: a stall watchdog of 2 s (20 ms by default)
   // keeps a loaded machine's stall of the servo thread from ending the session first.
   HapticSession session(device, source, ServoSettings{}, std::chrono::milliseconds(2000));
@@ -245,11 +248,8 @@ TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault)
 }
 
 TEST(OpenHaptics, AStalledServoHasTheDevicesForceOutputTurnedOffWhileItIsStillStalled) {
-  FakeHd fake;
-  ASSERT_NE(fake.handle, nullptr) << dlerror();
-  drivers::OpenHapticsDevice device(RIG_FAKE_LIBHD);
-  const model::ForceModel model = model::ForceModel::paper_interpreted();
-  ModelForceSource source(model, 15.0);
+  FakePhantom phantom;
+  auto& [fake, device, model, source] = phantom;
   HapticSession session(device, source, ServoSettings{});  // the stall watchdog's 20 ms
   int enabled_before = -1, enabled_during = -1;
   std::thread injector([&] {
