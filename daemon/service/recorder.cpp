@@ -154,25 +154,27 @@ void Recorder::run() {
   }
 }
 
-std::size_t Recorder::append_waiting_samples() {
+void Recorder::ensure_transaction() {
+  if (!dirty_) archive_->begin();
+  dirty_ = true;
+}
+
+void Recorder::append_waiting_samples() {
   std::size_t count = 0;
   rt::Sample sample;
   while (channels_->recorder.try_pop(sample)) {
-    if (!dirty_) archive_->begin();
-    dirty_ = true;
+    ensure_transaction();
     archive_->append_sample(sample);
     ++count;
   }
   stats_.samples_written.fetch_add(count);
-  return count;
 }
 
-std::size_t Recorder::drain() {
-  const std::size_t count = append_waiting_samples();
+void Recorder::drain() {
+  append_waiting_samples();
   rt::Event event;
   while (channels_->recorder_events.try_pop(event)) {
-    if (!dirty_) archive_->begin();
-    dirty_ = true;
+    ensure_transaction();
     handle(event);
   }
   std::vector<archive::FrameRow> frames;
@@ -181,11 +183,9 @@ std::size_t Recorder::drain() {
     frames.swap(pending_frames_);
   }
   for (const archive::FrameRow& row : frames) {
-    if (!dirty_) archive_->begin();
-    dirty_ = true;
+    ensure_transaction();
     archive_->add_frame(row);
   }
-  return count;
 }
 
 void Recorder::handle(const rt::Event& e) {

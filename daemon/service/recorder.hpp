@@ -36,8 +36,9 @@ class Recorder {
 
  private:
   void run();
-  std::size_t drain();
-  std::size_t append_waiting_samples();  // every sample in the loop's ring now [samples]
+  void drain();
+  void append_waiting_samples();  // every sample in the loop's ring now
+  void ensure_transaction();      // opens the archive's transaction unless one is open
   void handle(const rt::Event& event);
   void flush();
   using Clock = std::chrono::steady_clock;
