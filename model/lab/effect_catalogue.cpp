@@ -1,5 +1,7 @@
 #include "effect_catalogue.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -52,19 +54,31 @@ std::vector<std::string> candidate_keys(const std::vector<const PreparedRun*>& r
   return out;
 }
 
-std::pair<double, double> covariate_stats(const std::string& key, const std::vector<const PreparedRun*>& runs) {
+effects::CovariateRange covariate_stats(const std::string& key, const std::vector<const PreparedRun*>& runs) {
+  effects::CovariateRange out;
+  out.low = std::numeric_limits<double>::infinity();
+  out.high = -out.low;
   std::vector<double> values;
   for (const PreparedRun* r : runs) {
     double sum = 0.0;
-    for (const std::size_t i : r->analysed) sum += r->covariate(key, i).value_or(0.0);
+    for (const std::size_t i : r->analysed) {
+      const double v = r->covariate(key, i).value_or(0.0);
+      sum += v;
+      out.low = std::min(out.low, v);
+      out.high = std::max(out.high, v);
+    }
     values.push_back(r->analysed.empty() ? 0.0 : sum / static_cast<double>(r->analysed.size()));
   }
-  double mean = 0.0;
-  for (const double v : values) mean += v;
-  mean /= static_cast<double>(std::max<std::size_t>(values.size(), 1));
+  for (const double v : values) out.mean += v;
+  out.mean /= static_cast<double>(std::max<std::size_t>(values.size(), 1));
   double var = 0.0;
-  for (const double v : values) var += (v - mean) * (v - mean);
-  return {mean, std::sqrt(var / static_cast<double>(std::max<std::size_t>(values.size(), 1)))};
+  for (const double v : values) var += (v - out.mean) * (v - out.mean);
+  out.spread = std::sqrt(var / static_cast<double>(std::max<std::size_t>(values.size(), 1)));
+  if (!(out.low <= out.high)) {  // no samples, or no number among them: no range to hold to
+    out.low = -std::numeric_limits<double>::infinity();
+    out.high = std::numeric_limits<double>::infinity();
+  }
+  return out;
 }
 
 }  // namespace
@@ -126,8 +140,9 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_in_form(const std::string& nam
     const std::string key = name.substr(10);
     const auto at = std::find(covariates_.begin(), covariates_.end(), key);
     if (at == covariates_.end()) throw std::invalid_argument("effect '" + name + "': no numeric covariate '" + key + "' in every run");
-    const auto [mean, spread] = covariate_stats_[static_cast<std::size_t>(at - covariates_.begin())];
-    return std::make_unique<CovariateScaling>(key, mean, spread > 0.0 ? spread : 1.0, in(CovariateScaling::kPerPhase));
+    CovariateRange range = covariate_stats_[static_cast<std::size_t>(at - covariates_.begin())];
+    if (range.spread <= 0.0) range.spread = 1.0;
+    return std::make_unique<CovariateScaling>(key, range, in(CovariateScaling::kPerPhase));
   }
   if (name.rfind("user:", 0) == 0) {
     for (const auto* terms : {&model_->user_terms, &model_->candidate_terms}) {
@@ -214,11 +229,18 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
 std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& setting) const {
   const auto mean = setting.params.find("mean");
   const auto spread = setting.params.find("spread");
+  const auto low = setting.params.find("low");
+  const auto high = setting.params.find("high");
   const bool saved_covariate = setting.name.rfind("covariate:", 0) == 0 && mean != setting.params.end() && spread != setting.params.end();
   auto build = [&](int form) -> std::unique_ptr<EffectTerm> {
     // A covariate term keeps the centre and scale it was fitted with.
     if (saved_covariate) {
-      return std::make_unique<effects::CovariateScaling>(setting.name.substr(10), mean->second, spread->second,
+      effects::CovariateRange range;
+      range.mean = mean->second;
+      range.spread = spread->second;
+      if (low != setting.params.end()) range.low = low->second;  // files before 2026-11-28 have none
+      if (high != setting.params.end()) range.high = high->second;
+      return std::make_unique<effects::CovariateScaling>(setting.name.substr(10), range,
                                                          form < 0 ? effects::CovariateScaling::kPerPhase : form);
     }
     return make_in_form(setting.name, form);

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "effect_term.hpp"
+#include "effects/covariate_range.hpp"
 #include "force_model.hpp"
 
 namespace rig::model {
@@ -70,7 +71,7 @@ class EffectCatalogue {
   bool select_forms_ = true;
   std::shared_ptr<SelectionCache> cache_ = std::make_shared<SelectionCache>();
   std::vector<std::string> covariates_;
-  std::vector<std::pair<double, double>> covariate_stats_;  // mean, spread across runs
+  std::vector<effects::CovariateRange> covariate_stats_;  // mean, spread across runs; the values seen
 };
 
 // The model's own added effects (from its file) with their saved parameters.

@@ -78,6 +78,8 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
     if (const auto* cov = dynamic_cast<const effects::CovariateScaling*>(owned_[k].get())) {
       setting.params["mean"] = cov->mean();
       setting.params["spread"] = cov->spread();
+      if (std::isfinite(cov->range().low)) setting.params["low"] = cov->range().low;
+      if (std::isfinite(cov->range().high)) setting.params["high"] = cov->range().high;
     }
     out.push_back(std::move(setting));
   }

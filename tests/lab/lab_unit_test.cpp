@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -12,10 +13,13 @@
 #include "command.hpp"
 #include "comparison.hpp"
 #include "diagnosis.hpp"
+#include "effect_catalogue.hpp"
+#include "effects/covariate_scaling.hpp"
 #include "effects/iop_stiffness.hpp"
 #include "effects/shaft_friction.hpp"
 #include "grid_line.hpp"
 #include "lab_scenarios.hpp"
+#include "model_family.hpp"
 #include "model_fit.hpp"
 #include "phases.hpp"
 #include "prepared_run.hpp"
@@ -224,6 +228,45 @@ TEST(ShaftFriction, SlidingFormsVanishInEveryStopAndTheHeldFormKeepsItsLoadUntil
   EXPECT_GT(moving_in, 1000);
   EXPECT_GT(holding, 500);
   EXPECT_GT(retracting, 500);
+}
+
+// The blind zoo's failure this answers: a covariate acting as a step, the held-out run the
+// only one far past the others, was extrapolated as a slope to 5x its force (70034, 2026-11-28).
+TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFileKeepsThatRange) {
+  std::vector<RunData> data;
+  for (const char* hours : {"1", "2", "4"}) {
+    data.push_back(one_run({}));
+    auto& meta = data.back().meta;
+    meta.erase(std::remove_if(meta.begin(), meta.end(), [](const auto& kv) { return kv.first == "post_mortem_h"; }), meta.end());
+    meta.emplace_back("post_mortem_h", hours);
+  }
+  std::vector<PreparedRun> prepared;
+  for (const RunData& r : data) prepared.push_back(prepare_run(r));
+  const ForceModel paper = ForceModel::paper_interpreted();
+  const std::vector<const PreparedRun*> fitted_on = {&prepared[0], &prepared[1]};  // 1 h and 2 h
+  EffectCatalogue catalogue(paper, fitted_on);
+  catalogue.set_form_selection(false);  // the family below takes the default form, unfitted
+  const auto term = catalogue.make_form("covariate:post_mortem_h", "exponential, all phases");
+  const double c = 0.8;  // exp(c z), z in spreads of the fitted runs
+  auto scale_at = [&](std::size_t run) {
+    const SampleView s{&prepared[run], 0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, Phase::kApproach};
+    return term->scale(s, &c);
+  };
+  EXPECT_GT(scale_at(1), scale_at(0));               // inside the range: the slope
+  EXPECT_DOUBLE_EQ(scale_at(2), scale_at(1));        // 4 h is predicted as 2 h, the edge
+  EXPECT_NEAR(scale_at(1), std::exp(c), 1e-9);       // mean 1.5 h, spread 0.5 h: z = 1 at 2 h
+  const std::string words = term->evidence(EvidenceInput{&c, fitted_on, {}});
+  EXPECT_NE(words.find("held to 1..2"), std::string::npos) << words;
+  const ModelFamily family(paper, catalogue, {"covariate:post_mortem_h"});
+  ModelParams p = family.predictor().initial_params();
+  const auto settings = family.settings(p);
+  ASSERT_EQ(settings.size(), 1U);
+  EXPECT_DOUBLE_EQ(settings[0].params.at("low"), 1.0);
+  EXPECT_DOUBLE_EQ(settings[0].params.at("high"), 2.0);
+  const auto reloaded = catalogue.make_saved(settings[0]);
+  const auto* cov = dynamic_cast<const effects::CovariateScaling*>(reloaded.get());
+  ASSERT_NE(cov, nullptr);
+  EXPECT_DOUBLE_EQ(cov->range().high, 2.0);
 }
 
 TEST(Diagnose, WithTwoAcceptedEffectsChoosesEachOnesFormOverABaselineOfTheOther) {

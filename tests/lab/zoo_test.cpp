@@ -252,3 +252,22 @@ TEST(BlindZoo, DrawsAreLabelledCalibratedAndScored) {
 
 }  // namespace
 }  // namespace rig::zoo
+
+namespace rig::zoo {
+namespace {
+
+// A regression from the development range (not a scoring draw): seed 70034 is a step link of
+// temperature acting everywhere, 3.5x its floor, and one run at 25 C far past the other eight
+// (19.8-23.0 C). Its fold extrapolated the covariate's slope to that run and made the
+// population error 5x worse, so `diagnose` said "none" until covariate terms were held to
+// the values they were fitted on (2026-11-28).
+TEST(BlindZoo, ACovariateActingAsAStepIsNamedWithOneRunFarPastTheOthers) {
+  const ZooDraw draw = ZooGenerator().draw(70034);
+  ASSERT_EQ(draw.family, "covariate:temperature_C");
+  ASSERT_GE(draw.magnitude, 3.0);
+  const DrawScore s = score_draw(draw, 2);
+  EXPECT_EQ(s.verdict, "covariate:temperature_C");
+}
+
+}  // namespace
+}  // namespace rig::zoo
