@@ -31,6 +31,8 @@ constexpr double kWellAbove = 1.5;  // effect-free baselines reach 1.4x their fl
 // eye parameter captures), and a flexible candidate gains up to 30 % on it by chance.
 constexpr double kMinOwnEyeGainPct = 40.0;
 constexpr double kOwnEyeWellAbove = 2.5;
+// The most a candidate's rank loses for the channel it makes worse [percentage points].
+constexpr double kOtherChannelPenaltyPct = 10.0;
 
 std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv, const std::vector<const PreparedRun*>& runs) {
   std::array<double, kPhaseCount> sse{};
@@ -92,7 +94,11 @@ void score(CandidateResult& c, const CvResult& base, const CvResult& cv, int par
   c.n_effective = shown.n_effective;
   c.significant = population.passed || own.passed;
   c.channel = population.passed && own.passed ? "both" : population.passed ? "population" : own.passed ? "own eye" : "";
-  c.rank_gain_pct = shown.gain_pct;
+  // Ties between candidates are broken against one that makes the other channel worse (at
+  // most kOtherChannelPenaltyPct): a term that fits shapes within eyes while it predicts
+  // unseen eyes worse is less likely the cause than one that does both (draw 70046).
+  const ChannelTest& other = &shown == &own ? population : own;
+  c.rank_gain_pct = shown.gain_pct + std::clamp(other.gain_pct, -kOtherChannelPenaltyPct, 0.0);
 }
 
 std::vector<std::string> covariate_keys(const EffectCatalogue& catalogue) {

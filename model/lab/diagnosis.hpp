@@ -35,7 +35,7 @@ struct CandidateResult {
   double own_eye_gain_pct = 0.0;
   double own_eye_runs_improved = 0.0;
   std::string channel;         // where it is significant: population | own eye | both | ""
-  double rank_gain_pct = 0.0;  // its gain on the channel it is significant in (the larger); ranks significant ones
+  double rank_gain_pct = 0.0;  // its gain on the channel it is significant in (the larger), less up to 10 points the other channel lost; ranks significant ones
   double delta_bic = 0.0;      // with the effective sample count; < 0 favours the candidate
   double n_effective = 0.0;
   bool significant = false;

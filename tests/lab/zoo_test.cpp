@@ -271,3 +271,20 @@ TEST(BlindZoo, ACovariateActingAsAStepIsNamedWithOneRunFarPastTheOthers) {
 
 }  // namespace
 }  // namespace rig::zoo
+
+namespace rig::zoo {
+namespace {
+
+// A regression from the development range: seed 70046 is a temperature step acting
+// everywhere at 7.4x its floor. `iop_stiffness` gains 68.9 % within eyes and makes unseen eyes
+// 1.5 % worse; the temperature covariate gains 68.7 % on unseen eyes and 57.6 % within them.
+// Ranked by the larger gain alone, the first was the verdict (2026-11-28).
+TEST(BlindZoo, ACandidateThatPredictsUnseenEyesWorseLosesATieToOneThatImprovesBothChannels) {
+  const ZooDraw draw = ZooGenerator().draw(70046);
+  ASSERT_EQ(draw.family, "covariate:temperature_C");
+  const DrawScore s = score_draw(draw, 2);
+  EXPECT_EQ(s.verdict, "covariate:temperature_C");
+}
+
+}  // namespace
+}  // namespace rig::zoo
