@@ -1,9 +1,8 @@
 #include "effect_catalogue.hpp"
 
-#include <limits>
-
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
