@@ -239,6 +239,12 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& set
       range.spread = spread->second;
       if (low != setting.params.end()) range.low = low->second;  // files before 2026-11-28 have none
       if (high != setting.params.end()) range.high = high->second;
+      // From a file a person may have edited: a range the term cannot hold to is an error
+      // naming the effect, not a division by zero or an inverted clamp.
+      if (!(range.spread > 0.0) || !(range.low <= range.high)) {
+        throw std::invalid_argument("effect '" + setting.name + "': needs spread > 0 and low <= high (spread " + std::to_string(range.spread) +
+                                    ", low " + std::to_string(range.low) + ", high " + std::to_string(range.high) + ")");
+      }
       return std::make_unique<effects::CovariateScaling>(setting.name.substr(10), range,
                                                          form < 0 ? effects::CovariateScaling::kPerPhase : form);
     }

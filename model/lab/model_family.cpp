@@ -76,8 +76,8 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
     const auto specs = owned_[k]->shared_params();
     for (std::size_t i = 0; i < specs.size(); ++i) setting.params[specs[i].name] = params.shared[k][i];
     if (const auto* cov = dynamic_cast<const effects::CovariateScaling*>(owned_[k].get())) {
-      setting.params["mean"] = cov->mean();
-      setting.params["spread"] = cov->spread();
+      setting.params["mean"] = cov->range().mean;
+      setting.params["spread"] = cov->range().spread;
       if (std::isfinite(cov->range().low)) setting.params["low"] = cov->range().low;
       if (std::isfinite(cov->range().high)) setting.params["high"] = cov->range().high;
     }

@@ -258,8 +258,7 @@ TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFil
   const std::string words = term->evidence(EvidenceInput{&c, fitted_on, {}});
   EXPECT_NE(words.find("held to 1..2"), std::string::npos) << words;
   const ModelFamily family(paper, catalogue, {"covariate:post_mortem_h"});
-  ModelParams p = family.predictor().initial_params();
-  const auto settings = family.settings(p);
+  const auto settings = family.settings(family.predictor().initial_params());
   ASSERT_EQ(settings.size(), 1U);
   EXPECT_DOUBLE_EQ(settings[0].params.at("low"), 1.0);
   EXPECT_DOUBLE_EQ(settings[0].params.at("high"), 2.0);
@@ -267,6 +266,15 @@ TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFil
   const auto* cov = dynamic_cast<const effects::CovariateScaling*>(reloaded.get());
   ASSERT_NE(cov, nullptr);
   EXPECT_DOUBLE_EQ(cov->range().high, 2.0);
+  EffectSetting inverted = settings[0];
+  inverted.params["low"] = 3.0;  // above high: a hand-edited file
+  try {
+    (void)catalogue.make_saved(inverted);
+    ADD_FAILURE() << "an inverted range was accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("covariate:post_mortem_h"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("low <= high"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Diagnose, WithTwoAcceptedEffectsChoosesEachOnesFormOverABaselineOfTheOther) {

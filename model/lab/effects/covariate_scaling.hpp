@@ -31,8 +31,6 @@ class CovariateScaling final : public FamilyTerm {
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
   const std::string& key() const { return key_; }
-  double mean() const { return range_.mean; }
-  double spread() const { return range_.spread; }
   const CovariateRange& range() const { return range_; }
 
  private:
