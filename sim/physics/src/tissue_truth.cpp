@@ -29,6 +29,7 @@ void TissueTruth::new_eye(RandomSource& rng) {
   force_N_ = 0.0;
   advance_velocity_mm_s_ = kReferenceVelocity_mm_s;
   hold_s_ = 0.0;
+  hold_front_mm_ = 0.0;
   tear_N_ = 0.0;
   relaxed_ = relaxed_at_hold_start_ = 0.0;
   dahl_N_per_mm_ = 0.0;
@@ -170,10 +171,20 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   if (input.velocity_mm_s > 0.1) {
     advance_velocity_mm_s_ += (input.velocity_mm_s - advance_velocity_mm_s_) * std::min(1.0, input.dt_s / 0.02);
   }
-  // Held: the blade neither advances past its deepest point nor withdraws from it by more
-  // than 50 um (servo jitter of a few um does not end a hold).
+  // Held: the blade neither advances past where the hold began nor withdraws from its deepest
+  // point by more than 50 um. Servo jitter of a few um does not end a hold, in either
+  // direction: a slow run's servo settles forward by ~4 um over a 2 s stop, and until
+  // 2026-11-28 each um of that creep ended the hold and restarted the relaxation spectrum
+  // from t = 0, so slow runs relaxed twice as far in the same stop (draw 80031: to 35 % of
+  // the force at 0.6 mm/s, 64 % at 1.3 mm/s, with one relaxation law).
   // The tissue stays relaxed while the blade is withdrawn; only a new advance reloads it.
-  const bool held = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - 0.05;
+  // Creep is slower than 0.05 mm/s (10x below the slowest cut): a cut goes on cutting.
+  constexpr double kHoldTolerance_mm = 0.05, kCreepSpeed_mm_s = 0.05;
+  const bool at_front = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - kHoldTolerance_mm;
+  const bool creeping = hold_s_ > 0.0 && tip > front_mm_ && tip <= hold_front_mm_ + kHoldTolerance_mm &&
+                        std::abs(input.velocity_mm_s) < kCreepSpeed_mm_s;
+  const bool held = at_front || creeping;
+  if (held && hold_s_ <= 0.0) hold_front_mm_ = front_mm_;
   track_relaxation(held, tip - front_mm_, input.dt_s);
   if (tip > front_mm_) {
     const double advanced = tip - front_mm_;

@@ -60,6 +60,7 @@ class TissueTruth {
   double force_N_ = 0.0;
   double advance_velocity_mm_s_ = 2.0;  // smoothed velocity of the last advance
   double hold_s_ = 0.0;             // time at rest at the front
+  double hold_front_mm_ = 0.0;      // the front when the current hold began [mm]
   double tear_N_ = 0.0;             // AR(1) tearing fluctuation
   double eye_stiffness_ = 1.0;      // per-eye variability factor
   double eye_xpi_shift_mm_ = 0.0;
