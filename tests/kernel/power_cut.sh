@@ -23,12 +23,12 @@ qemu=""; watcher=""
 mkdir -p "$work/extra/etc/rig" && cp "$config" "$model" "$work/extra/etc/rig/"
 (cd "$work/extra" && find . | cpio -o -H newc --quiet | gzip -1 >> "$work/initrd.gz")
 # The VM stands for the rig PC: its disk and CPUs are its own, not those of whatever else the
-# host runs. So the image lives in RAM (/dev/shm, tmpfs) when the host has it - a host disk
-# kept busy by other writers (../shared/tools/busy-machine's dsync writer) stalled the guest's
-# commits for up to half a second - and QEMU runs at nice -10 where the host allows it (root),
-# so that host load slows the emulated machine little (2026-11-27: with every host core
-# spinning, the VM's recorder started commits up to 0.9 s late). Neither changes what the guest
-# does: its writes, flushes and scheduling are those of rigd on a rig PC.
+# host runs. So the image lives in RAM (/dev/shm, tmpfs) when the host has it, out of reach of
+# other writers on the host's disk (../shared/tools/busy-machine's dsync writer), and QEMU runs
+# at nice -10 where the host allows it (root), so that host load slows the emulated machine
+# less (2026-11-27 under busy-machine, without either: commits of up to 0.5 s, started up to
+# 0.9 s late; docs/faults.md, power loss items 6 and 7). Neither changes what the guest does:
+# its writes, flushes and scheduling are those of rigd on a rig PC.
 disk_dir="$work"
 [ -d /dev/shm ] && [ -w /dev/shm ] && disk_dir="$(mktemp -d /dev/shm/rig-power.XXXXXX)"
 disk="$disk_dir/archive.img"
