@@ -45,28 +45,26 @@ void StickSlip::design(const SampleView& s, const double* p, double* row) const 
     return;
   }
   if (form_ == kSpeedScaled) {
-    fourier((s.x_mm - s.x_pi_mm) / period_mm(*s.run, p), harmonics(), row);
+    fourier((s.x_mm - s.x_pi_mm) / period_mm(s.run->velocity_cmd_mm_s, p), harmonics(), row);
     return;
   }
   fourier((s.x_mm - s.x_pi_mm) / p[0], harmonics(), row);
 }
 
-double StickSlip::period_mm(const PreparedRun& run, const double* p) const {
+double StickSlip::period_mm(double velocity_mm_s, const double* p) const {
   if (form_ != kSpeedScaled) return p[0];
   constexpr double kReference_mm_s = 2.0;
-  return p[0] * std::pow(std::max(std::abs(run.velocity_cmd_mm_s), 0.1) / kReference_mm_s, p[1]);
+  return p[0] * std::pow(std::max(std::abs(velocity_mm_s), 0.1) / kReference_mm_s, p[1]);
 }
 
 std::string StickSlip::evidence(const EvidenceInput& in) const {
   if (form_ == kSpeedScaled) {
     double slowest = 1e9, fastest = 0.0;  // [mm/s]
     for (const PreparedRun* r : in.runs) slowest = std::min(slowest, r->velocity_cmd_mm_s), fastest = std::max(fastest, r->velocity_cmd_mm_s);
-    PreparedRun slow, fast;
-    slow.velocity_cmd_mm_s = slowest, fast.velocity_cmd_mm_s = fastest;
     return format("tearing whose period follows the cutting speed: during the cutting phase the residual repeats every %.3f mm at 2 mm/s, "
                   "times (v / 2 mm/s)^%.2f (", in.shared[0], in.shared[1]) +
-           format("%.3f mm at %.1f mm/s, %.3f mm at %.1f mm/s), each eye with its own amplitude and phase", period_mm(slow, in.shared), slowest,
-                  period_mm(fast, in.shared), fastest) +
+           format("%.3f mm at %.1f mm/s, %.3f mm at %.1f mm/s), each eye with its own amplitude and phase", period_mm(slowest, in.shared), slowest,
+                  period_mm(fastest, in.shared), fastest) +
            honesty(in);
   }
   return std::string(form_ == kSine ? "sinusoidal tearing: " : "sawtooth-like tearing (3 harmonics): ") +

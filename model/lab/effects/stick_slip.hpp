@@ -4,9 +4,9 @@
 // tearing period are shared by all runs; zero outside the cutting phase. The family: 3
 // harmonics (sawtooth-like tears), a sine, or tears whose period follows the cutting speed
 // as a power law (velocity weakening or strengthening of the tear), each eye with its own
-// amplitude and phase (its own puncture and toughness). Aperiodic tearing (random events) predicts
-// nothing a held-out run could be scored on, so it is not a term: the diagnosis sees it as
-// residual structure in the cutting phase.
+// amplitude and phase (its own puncture and toughness). Aperiodic tearing (random events)
+// predicts nothing a held-out run could be scored on, so it is not a term: the diagnosis
+// sees it as residual structure in the cutting phase.
 #include "family_term.hpp"
 
 namespace rig::model::effects {
@@ -26,7 +26,7 @@ class StickSlip final : public FamilyTerm {
   void design(const SampleView& s, const double* p, double* row) const override;
   std::string evidence(const EvidenceInput& in) const override;
   int harmonics() const { return form_ == kSine ? 1 : 3; }
-  double period_mm(const PreparedRun& run, const double* p) const;  // the tearing period of this run [mm]
+  double period_mm(double velocity_mm_s, const double* p) const;  // the tearing period at this cutting speed [mm]
 };
 
 }  // namespace rig::model::effects
