@@ -16,26 +16,14 @@ limit_ms="$(sed -n 's/^flush_interval_ms *= *\([0-9]*\).*/\1/p' "$config")"
 here="$(cd "$(dirname "$0")" && pwd)"
 command -v qemu-system-x86_64 >/dev/null || { echo "SKIP: qemu-system-x86_64 is not installed"; exit 77; }
 [ -f "$cache/ready" ] || { echo "FAIL: $cache is not prepared (prepare_kernel.sh)"; exit 1; }
-work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"; trap 'kill -9 $qemu $watcher 2>/dev/null || true; rm -rf "$work" "${disk_dir:-$work}"' EXIT
+work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"; trap 'kill -9 $qemu $watcher 2>/dev/null || true; rm -rf "$work"' EXIT
 qemu=""; watcher=""
 "$here/build_initramfs.sh" "$cache" "$work" "$here/scenario_power.sh" "virtio_pci virtio_blk ext4 crc32c_generic" "$@" "$(command -v sqlite3)" "$(command -v chrt)" "$(command -v socat)"
 # rigd's config and model ride in a second cpio appended to the first (the kernel unpacks both).
 mkdir -p "$work/extra/etc/rig" && cp "$config" "$model" "$work/extra/etc/rig/"
 (cd "$work/extra" && find . | cpio -o -H newc --quiet | gzip -1 >> "$work/initrd.gz")
-# The VM stands for the rig PC: its disk and CPUs are its own, not those of whatever else the
-# host runs. So the image lives in RAM (/dev/shm, tmpfs) when the host has it, out of reach of
-# other writers on the host's disk (../shared/tools/busy-machine's dsync writer), and QEMU runs
-# at nice -10 where the host allows it (root), so that host load slows the emulated machine
-# less (2026-11-27 under busy-machine, without either: commits of up to 0.5 s, started up to
-# 0.9 s late; docs/faults.md, power loss items 6 and 7). Neither changes what the guest does:
-# its writes, flushes and scheduling are those of rigd on a rig PC.
-disk_dir="$work"
-[ -d /dev/shm ] && [ -w /dev/shm ] && disk_dir="$(mktemp -d /dev/shm/rig-power.XXXXXX)"
-disk="$disk_dir/archive.img"
+disk="$work/archive.img"
 truncate -s 64M "$disk" && mkfs.ext4 -q -F "$disk"
-host_nice=""
-[ "$(nice -n -10 nice 2>/dev/null)" -lt "$(nice)" ] && host_nice="nice -n -10"   # nice runs on, unreniced, without root
-echo "VM: archive image in $disk_dir, QEMU ${host_nice:-at the default priority}"
 
 boot() {  # boot MODE -> $work/console.log; returns once the VM is cut (MODE=cut) or powered off
   : > "$work/console.log"
@@ -47,13 +35,13 @@ boot() {  # boot MODE -> $work/console.log; returns once the VM is cut (MODE=cut
   # ttyS1 carries rig-sim's heartbeat to a Unix socket, read by heartbeat_watch.py as it arrives
   # (which also cuts the power on SIGUSR1 and tells the guest's clock at the cut).
   rm -f "$work/hb.sock" "$work/heartbeat"
-  $host_nice qemu-system-x86_64 -accel tcg -smp 2 -m 1G -nographic -no-reboot -nic none \
+  qemu-system-x86_64 -accel tcg -smp 2 -m 1G -nographic -no-reboot -nic none \
     -drive "file=$disk,format=raw,if=virtio,cache=writethrough" \
     -chardev "socket,id=hb,path=$work/hb.sock,server=on,wait=off" -serial mon:stdio -serial chardev:hb \
     -kernel "$cache/vmlinux" -initrd "$work/initrd.gz" -append "console=ttyS0 loglevel=3 panic=-1 rigmode=$1" \
     </dev/null > "$work/console.log" 2>&1 &
   qemu=$!
-  $host_nice python3 "$here/heartbeat_watch.py" "$work/hb.sock" "$qemu" "$work/heartbeat" &
+  python3 "$here/heartbeat_watch.py" "$work/hb.sock" "$qemu" "$work/heartbeat" &
   watcher=$!
   # Every fifth cut falls while the run is armed (the IOP settling, no samples yet), the others
   # while it cuts; a run that ended before cutting (a fault) is cut as it is.

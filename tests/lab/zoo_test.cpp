@@ -337,7 +337,7 @@ namespace {
 
 // Seed 120047 tears in build-and-release steps whose period grows with the cutting speed
 // (0.24 mm at 0.5 mm/s, 0.41 mm at 3.6 mm/s) at 3.4x its floor. With one period in mm for
-// every run, locked to the population's puncture, the tearing term gained 0.9 % and
+// every run, locked to the population's puncture, the tearing term gained at most 0.9 % and
 // `iop_stiffness` ranked first (2026-11-28, seeds 120000-120059). The family's third form
 // (period as a power law of the speed, each eye its own amplitude and phase) finds the law.
 TEST(BlindZoo, TearingWhosePeriodFollowsTheCuttingSpeedIsRankedFirstWithThatForm) {
