@@ -329,12 +329,6 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
   }
 }
 
-}  // namespace
-}  // namespace rig::zoo
-
-namespace rig::zoo {
-namespace {
-
 // Seed 120047 tears in build-and-release steps whose period grows with the cutting speed
 // (0.24 mm at 0.5 mm/s, 0.41 mm at 3.6 mm/s) at 3.4x its floor. With one period in mm for
 // every run, locked to the population's puncture, the tearing term gained at most 0.9 % and

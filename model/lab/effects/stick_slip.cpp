@@ -44,11 +44,7 @@ void StickSlip::design(const SampleView& s, const double* p, double* row) const 
     for (int c = 0; c < 2 * harmonics(); ++c) row[c] = 0.0;
     return;
   }
-  if (form_ == kSpeedScaled) {
-    fourier((s.x_mm - s.x_pi_mm) / period_mm(s.run->velocity_cmd_mm_s, p), harmonics(), row);
-    return;
-  }
-  fourier((s.x_mm - s.x_pi_mm) / p[0], harmonics(), row);
+  fourier((s.x_mm - s.x_pi_mm) / period_mm(s.run->velocity_cmd_mm_s, p), harmonics(), row);
 }
 
 double StickSlip::period_mm(double velocity_mm_s, const double* p) const {
