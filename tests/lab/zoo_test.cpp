@@ -16,6 +16,7 @@
 #include "diagnosis.hpp"
 #include "effect_catalogue.hpp"
 #include "lab_scenarios.hpp"
+#include "prepared_run.hpp"
 #include "rig/sim/effect_forms.hpp"
 #include "rig/sim/rig_physics.hpp"
 #include "zoo_scorer.hpp"
@@ -326,6 +327,89 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
     const auto [low, high] = std::minmax_element(stops->begin(), stops->end());
     EXPECT_LT(*high - *low, 0.12) << "relaxed to " << *low << " .. " << *high << " of the force in one stop";
     EXPECT_LT(*high, 0.9) << "the stops relax";
+  }
+}
+
+// The share of a run's tearing that a sawtooth of the simulator's own law leaves unexplained
+// [1]: the force on new depth inside the cut (0.3 mm past the detected puncture to 0.2 mm
+// before the cut's end), less a quadratic in depth, fitted by 8 harmonics of depth over the
+// period 0.35 (v / 2 mm/s)^0.3 mm at the run's commanded speed v.
+double tearing_left_by_its_own_law(const model::RunData& data) {
+  const model::PreparedRun run = model::prepare_run(data);
+  const double period_mm = 0.35 * std::pow(run.velocity_cmd_mm_s / 2.0, 0.3);
+  std::vector<std::size_t> rows;
+  double deepest = -1e9;
+  for (std::size_t i = 0; i < data.size(); ++i) {
+    const double x = data.x_mm[i];
+    if (x > deepest + 1e-4 && x > run.seg.x_pi_mm + 0.3 && x < run.seg.x_c_mm - 0.2) rows.push_back(i);
+    deepest = std::max(deepest, x);
+  }
+  constexpr int kHarmonics = 8;
+  Eigen::MatrixXd design(static_cast<Eigen::Index>(rows.size()), 3 + 2 * kHarmonics);
+  Eigen::VectorXd force(design.rows());
+  for (Eigen::Index r = 0; r < design.rows(); ++r) {
+    const double x = data.x_mm[rows[static_cast<std::size_t>(r)]] - run.seg.x_pi_mm;
+    design(r, 0) = 1.0, design(r, 1) = x, design(r, 2) = x * x;
+    for (int k = 1; k <= kHarmonics; ++k) {
+      design(r, 1 + 2 * k) = std::sin(2.0 * M_PI * k * x / period_mm);
+      design(r, 2 + 2 * k) = std::cos(2.0 * M_PI * k * x / period_mm);
+    }
+    force(r) = data.force_N[rows[static_cast<std::size_t>(r)]];
+  }
+  const auto left = [&](Eigen::Index columns) {
+    const Eigen::MatrixXd x = design.leftCols(columns);
+    return (force - x * x.colPivHouseholderQr().solve(force)).squaredNorm();
+  };
+  return left(design.cols()) / left(3);
+}
+
+// Seed 120047 tears in build-and-release steps whose length follows the cutting speed. Until
+// 2026-11-28 the simulator recomputed the pattern as sawtooth(depth / period(speed now)): the
+// servo's speed ripple of a few percent then moved the tenth tear by a tenth of a period, a
+// jitter no tearing has and no term can fit. The tears now add up over the cut.
+TEST(SimulatedTearing, KeepsTheLengthOfItsTearsAlongTheCutWhateverTheServoRipple) {
+  const ZooDraw draw = ZooGenerator().draw(120047);
+  ASSERT_EQ(draw.family, "stick_slip");
+  ASSERT_NE(draw.form.find("velocity_weakening"), std::string::npos) << draw.form;
+  std::vector<double> left;  // per run
+  for (const auto& run : draw.runs) {
+    left.push_back(tearing_left_by_its_own_law(run));
+  }
+  std::sort(left.begin(), left.end());
+  // Before: 0.12-0.29 of the tearing left, median 0.19; after: 0.07-0.21, median 0.09.
+  EXPECT_LT(left[left.size() / 2], 0.14) << "median share left; the largest " << left.back();
+}
+
+// The largest step between successive 20 ms means of the force in any stop inside the cut of
+// the run [N], 1 kHz samples. A stop: the carriage within 20 um for 0.8 s or more, 3-6.5 mm deep.
+double largest_step_in_a_stop(const model::RunData& run) {
+  double largest = 0.0;
+  std::size_t start = 0;
+  for (std::size_t i = 1; i <= run.size(); ++i) {
+    if (i < run.size() && std::abs(run.x_mm[i] - run.x_mm[start]) < 0.02) continue;
+    if (run.x_mm[start] > 3.0 && run.x_mm[start] < 6.5 && run.t_s[i - 1] - run.t_s[start] >= 0.8) {
+      double previous = NAN;
+      for (std::size_t k = start + 100; k + 120 < i; k += 20) {  // 0.1 s from either end: the blade at rest
+        double mean = 0.0;
+        for (std::size_t j = k; j < k + 20; ++j) mean += run.force_N[j] / 20.0;
+        if (!std::isnan(previous)) largest = std::max(largest, std::abs(mean - previous));
+        previous = mean;
+      }
+    }
+    start = i;
+  }
+  return largest;
+}
+
+// A blade held inside the cut keeps the tear it has built up. Until 2026-11-28 the simulated
+// tearing let go as soon as the servo settled 1 um back during a stop: the force stepped by
+// the tearing's amplitude in the middle of a hold.
+TEST(SimulatedTearing, HoldsItsTearWhileTheBladeIsStopped) {
+  const ZooDraw draw = ZooGenerator().draw(120047);
+  ASSERT_EQ(draw.family, "stick_slip");
+  for (const auto& run : draw.runs) {
+    // Before: steps of 34-43 mN in the slow runs' stops; after: at most 7.5 mN (noise 1.5 mN).
+    EXPECT_LT(largest_step_in_a_stop(run), 0.01) << run.source;
   }
 }
 

@@ -123,15 +123,18 @@ CovariateChange covariate_change(const EffectSlot& slot, double value) {
   return change;
 }
 
-double tearing_pattern(const EffectSlot& slot, double past_mm, double v) {
+double tearing_pattern(const EffectSlot& slot, double past_mm, double tear_cycles) {
   if (slot.form == 1) {  // period grows with depth: 0.25 mm (1 + 0.25/mm past the puncture)
     const double growth = 0.25;
     return std::sin(kTwoPi * std::log1p(growth * past_mm) / (growth * 0.25) + slot.phase_rad);
   }
-  // velocity weakening: period 0.35 (v/2)^0.3 mm, build-and-release (sawtooth)
-  const double period = 0.35 * std::pow(std::max(v, 0.1) / kReferenceVelocity_mm_s, 0.3);
-  return sawtooth(past_mm / period);
+  return sawtooth(tear_cycles);  // velocity weakening: build-and-release
 }
+
+// Velocity weakening: a tear is 0.35 (v/2)^0.3 mm long at the speed it was cut. Until
+// 2026-11-28 the pattern was sawtooth(past / period(v now)): each percent of servo speed
+// ripple then moved the tenth tear by a tenth of a cycle, a jitter no tearing has.
+double tearing_cycles_per_mm(double v) { return 1.0 / (0.35 * std::pow(std::max(v, 0.1) / kReferenceVelocity_mm_s, 0.3)); }
 
 double tearing_amplitude_N(const EffectSlot& slot, double v) {
   const double amplitude = 0.006 * slot.size;

@@ -11,6 +11,7 @@ namespace {
 constexpr double kReferenceVelocity_mm_s = 2.0;
 constexpr double kRelaxRecovery_mm = 0.15;   // advancing this far replaces relaxed tissue by fresh
 constexpr double kTearSpacing_mm = 0.35;     // mean spacing of aperiodic tears
+constexpr double kHoldTolerance_mm = 0.05;   // how far a held blade may settle without ending the hold
 
 double interpolate(const double* xs, const double* ys, int n, double x) {
   if (x <= xs[0]) return ys[0];
@@ -93,9 +94,11 @@ double TissueTruth::cutting_force(double tip_mm, double iop_mmHg) const {
 double TissueTruth::tearing_force(double tip_mm) const {
   const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
   const bool cutting = punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm;
-  if (!stick.on || !cutting || tip_mm < front_mm_ - 1e-3) return 0.0;
+  // A held blade keeps the tear it has built up; servo jitter of micrometres backwards does
+  // not let it go (until 2026-11-28 1 um did, and the force stepped mid-hold); withdrawing does.
+  if (!stick.on || !cutting || tip_mm < front_mm_ - kHoldTolerance_mm) return 0.0;
   const double amplitude = forms::tearing_amplitude_N(stick, advance_velocity_mm_s_);
-  if (stick.form != 0) return amplitude * forms::tearing_pattern(stick, tip_mm - punctured_at_mm_, advance_velocity_mm_s_);
+  if (stick.form != 0) return amplitude * forms::tearing_pattern(stick, tip_mm - punctured_at_mm_, tear_cycles_);
   // Aperiodic: each tear builds up over its own length, then lets go.
   const double length = std::max(tear_to_mm_ - tear_from_mm_, 1e-6);
   return amplitude * (2.0 * std::clamp((tip_mm - tear_from_mm_) / length, 0.0, 1.0) - 1.0);
@@ -179,7 +182,7 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   // the force at 0.6 mm/s, 64 % at 1.3 mm/s, with one relaxation law).
   // The tissue stays relaxed while the blade is withdrawn; only a new advance reloads it.
   // Creep is slower than 0.05 mm/s (10x below the slowest cut): a cut goes on cutting.
-  constexpr double kHoldTolerance_mm = 0.05, kCreepSpeed_mm_s = 0.05;
+  constexpr double kCreepSpeed_mm_s = 0.05;
   const bool at_front = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - kHoldTolerance_mm;
   const bool creeping = hold_s_ > 0.0 && tip > front_mm_ && tip <= hold_front_mm_ + kHoldTolerance_mm &&
                         std::abs(input.velocity_mm_s) < kCreepSpeed_mm_s;
@@ -189,6 +192,7 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   if (tip > front_mm_) {
     const double advanced = tip - front_mm_;
     front_mm_ = tip;
+    if (punctured_) tear_cycles_ += advanced * forms::tearing_cycles_per_mm(advance_velocity_mm_s_);
     if (punctured_ && p_.tear_noise_N > 0.0) {
       const double rho = std::exp(-advanced / p_.tear_correlation_mm);
       tear_N_ = rho * tear_N_ + std::sqrt(1.0 - rho * rho) * rng.gaussian(p_.tear_noise_N);
@@ -196,6 +200,7 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
     if (!punctured_ && tip >= puncture_depth_mm(input.iop_mmHg)) {
       punctured_ = true;
       punctured_at_mm_ = tip;
+      tear_cycles_ = 0.0;
       tear_from_mm_ = tear_to_mm_ = tip;
     }
   }

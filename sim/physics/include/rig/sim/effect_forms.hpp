@@ -37,9 +37,12 @@ struct CovariateChange {
 };
 CovariateChange covariate_change(const EffectSlot& slot, double value);
 
-// Periodic tearing pattern (-1..1) at `past_puncture_mm` into the cut, velocity v [mm/s];
-// the aperiodic form is drawn by TissueTruth from its tear schedule instead.
-double tearing_pattern(const EffectSlot& slot, double past_puncture_mm, double v_mm_s);
+// Periodic tearing pattern (-1..1) at `past_puncture_mm` into the cut, `tear_cycles` tears
+// completed since the puncture (TissueTruth accumulates tearing_cycles_per_mm over each
+// advance); the aperiodic form is drawn by TissueTruth from its tear schedule instead.
+double tearing_pattern(const EffectSlot& slot, double past_puncture_mm, double tear_cycles);
+// Tears per mm of cut at advance velocity v [mm/s] (the velocity-weakening form's rate).
+double tearing_cycles_per_mm(double v_mm_s);
 double tearing_amplitude_N(const EffectSlot& slot, double v_mm_s);
 
 // Instrument effects on the force channel [N] (sensor_chain applies them).

@@ -66,6 +66,7 @@ class TissueTruth {
   double eye_xpi_shift_mm_ = 0.0;
   double eye_cutting_ = 1.0;
   double punctured_at_mm_ = 0.0;   // where the blade entered
+  double tear_cycles_ = 0.0;       // periodic tearing: tears completed since the puncture
   double relaxed_ = 0.0;           // relaxed fraction of the tissue force (stress_relaxation)
   double relaxed_at_hold_start_ = 0.0;
   double dahl_N_per_mm_ = 0.0;     // Dahl friction state per inserted length
