@@ -282,6 +282,18 @@ TEST(BlindZoo, ACandidateThatPredictsUnseenEyesWorseLosesATieToOneThatImprovesBo
   expect_verdict(70046, "covariate:temperature_C");
 }
 
+// Seed 20009 of the effect-free tuning draws: 9 eyes, no effect. `covariate:blade_uses`
+// ("after the puncture only") fits the eyes' random cutting scales to the run order and gains
+// 27.3 % on unseen eyes; against the 16 % bar of every candidate it was the verdict until the
+// covariate bar (30 % at 9 runs, 2026-11-28).
+TEST(BlindZoo, EyesThatDifferByChanceAreNotTakenForACovariate) {
+  ZooOptions clean_only;
+  clean_only.catalogue_share = clean_only.zoo_law_share = clean_only.out_of_catalogue_share = clean_only.mixture_share = 0.0;
+  const ZooDraw draw = ZooGenerator(clean_only).draw(20009);
+  ASSERT_EQ(draw.family, "clean");
+  EXPECT_EQ(score_draw(draw, 2).verdict, "none");
+}
+
 }  // namespace
 }  // namespace rig::zoo
 
