@@ -282,6 +282,12 @@ TEST(BlindZoo, ACandidateThatPredictsUnseenEyesWorseLosesATieToOneThatImprovesBo
   expect_verdict(70046, "covariate:temperature_C");
 }
 
+// Seed 120043 is a lead-screw ripple whose amplitude follows the thread load, 0.3 + F/0.2 N,
+// at 5x its floor. With the ripple's amplitude one number per run the best form left 0.6 of
+// the excess and the verdict was `unexplained` (2026-11-28, seeds 120000-120059); the family's
+// third form, a sine proportional to the measured force, names it.
+TEST(BlindZoo, ARippleThatGrowsWithTheLoadIsNamed) { expect_verdict(120043, "spatial_ripple"); }
+
 // Seed 20009 of the effect-free tuning draws: 9 eyes, no effect. `covariate:blade_uses`
 // ("after the puncture only") fits the eyes' random cutting scales to the run order and gains
 // 27.3 % on unseen eyes; against the 16 % bar of every candidate it was the verdict until the

@@ -7,20 +7,22 @@
 namespace rig::model::effects {
 
 const std::vector<std::string>& SpatialRipple::form_names() {
-  static const std::vector<std::string> kNames = {"3 harmonics", "sine"};
+  static const std::vector<std::string> kNames = {"3 harmonics", "sine", "growing with the load"};
   return kNames;
 }
 
 std::vector<ParamSpec> SpatialRipple::shared_params() const {
   std::vector<ParamSpec> out = {{"period", "mm", 1.0, 0.2, 5.0}};
   if (form_ == kSine) out.push_back({"harmonics", kFormLabelUnit, 1.0, 0.5, 1.5});
+  if (form_ == kWithTheLoad) out.push_back({"with the load", kFormLabelUnit, 2.0, 1.5, 2.5});
   return out;
 }
 
 std::vector<std::vector<double>> SpatialRipple::starts() const {
   std::vector<std::vector<double>> out;
   for (double period = 0.25; period <= 4.0; period *= 1.01) {  // a ripple stays coherent over ~30 mm only within ~1 %
-    out.push_back(form_ == kSine ? std::vector<double>{period, 1.0} : std::vector<double>{period});
+    if (form_ == kThreeHarmonics) out.push_back({period});
+    else out.push_back({period, form_ == kSine ? 1.0 : 2.0});
   }
   return out;
 }
@@ -29,6 +31,11 @@ std::vector<std::vector<double>> SpatialRipple::starts() const {
 // ripple there was taken in by the tare, so each column is its value less its value at the
 // start. No free offset: a constant per run is not a ripple (it is drift or tare).
 void SpatialRipple::design(const SampleView& s, const double* p, double* row) const {
+  if (form_ == kWithTheLoad) {  // no load where the force was tared: nothing to subtract [N]
+    fourier(s.x_mm / p[0], 1, row);
+    row[0] *= s.force_N, row[1] *= s.force_N;
+    return;
+  }
   double at_tare[6];
   fourier(s.run->parked_mm / p[0], harmonics(), at_tare);
   fourier(s.x_mm / p[0], harmonics(), row);
@@ -36,6 +43,15 @@ void SpatialRipple::design(const SampleView& s, const double* p, double* row) co
 }
 
 std::string SpatialRipple::evidence(const EvidenceInput& in) const {
+  if (form_ == kWithTheLoad) {
+    std::vector<double> share;  // per run: amplitude / force [1]
+    for (const auto& c : in.run_coefficients) {
+      if (c.size() >= 2) share.push_back(std::hypot(c(0), c(1)));
+    }
+    return format("ripple growing with the load: the residual is periodic in displacement with a %.3f mm period, its amplitude "
+                  "proportional to the force on the screw (%.1f %% of the force in the median run, phase differs by run)",
+                  in.shared[0], share.empty() ? 0.0 : 100.0 * median(std::move(share))) + honesty(in);
+  }
   return std::string(form_ == kSine ? "sinusoidal ripple: " : "ripple with 3 harmonics: ") +
          format("the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f N, phase differs by run)",
                 in.shared[0], largest_amplitude(in.run_coefficients)) + honesty(in);

@@ -3,15 +3,16 @@
 // wobble): per-run Fourier coefficients at a period shared by all runs. The run's phase is
 // its own: the screw angle at contact differs. Tare is taken at rest where the run begins,
 // so the ripple there is subtracted: each column is its value less its value at the run's
-// first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1 harmonic) or
-// 3 harmonics (sawtooth-like shapes).
+// first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1 harmonic),
+// 3 harmonics (sawtooth-like shapes), or a sine whose amplitude is proportional to the load on
+// the screw (the measured force: a nut's friction torque ripple grows with its axial load).
 #include "family_term.hpp"
 
 namespace rig::model::effects {
 
 class SpatialRipple final : public FamilyTerm {
  public:
-  enum Form { kThreeHarmonics = 0, kSine };
+  enum Form { kThreeHarmonics = 0, kSine, kWithTheLoad };
   explicit SpatialRipple(int form = kThreeHarmonics) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "spatial_ripple"; }
@@ -26,7 +27,7 @@ class SpatialRipple final : public FamilyTerm {
   // (measured meat indentation: a 3.9 mm "ripple" over 6-8 mm ramps, docs/model-lab.md).
   bool identifiable(const EvidenceInput& fitted, std::string& why_not) const override;
   static constexpr double kMinPeriodsSeen = 3.0;
-  int harmonics() const { return form_ == kSine ? 1 : 3; }
+  int harmonics() const { return form_ == kThreeHarmonics ? 3 : 1; }
 };
 
 }  // namespace rig::model::effects
