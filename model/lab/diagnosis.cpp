@@ -17,21 +17,9 @@ namespace {
 // The bars below were calibrated on effect-free zoo draws of the tuning seeds 20000-20007
 // (`bench-lab --clean-only --seed 20000 --draws 8 --verbose` prints the figures), never on
 // the seeds the rates are reported on. Population channel: eye-to-eye variation of 9 runs
-// lets a covariate or IOP term gain up to ~16 % by chance, so less is not an effect.
+// lets an IOP term gain up to ~16 % by chance, so less is not an effect (a covariate
+// has its own bar, below).
 constexpr double kMinGainPct = 16.0;
-// A covariate candidate regresses the eyes' own variation on a number drawn with each eye: on
-// 24 effect-free draws of 9 eyes (tuning seeds 20000-20023, 2026-11-28) covariates gained up
-// to 27.6 % by chance (6 forms of up to 4 parameters, 3 keys), the other candidates up to
-// 14.4 %; covariates of the zoo at 3x the floor or more gained 36-80 %. So a covariate needs
-// this much at 9 runs; a regression's chance gain falls as 1/runs, and so does the bar, down
-// to kMinGainPct (at 17 runs or more: an extrapolation, the zoo draws 9).
-constexpr double kMinCovariateGainPct9 = 30.0;
-constexpr double kCalibrationRuns = 9.0;
-
-double min_population_gain_pct(const std::string& candidate, std::size_t runs) {
-  if (candidate.rfind("covariate:", 0) != 0) return kMinGainPct;
-  return std::max(kMinGainPct, kMinCovariateGainPct9 * kCalibrationRuns / static_cast<double>(std::max<std::size_t>(runs, 1)));
-}
 constexpr double kMinRunsImproved = 0.6;
 constexpr double kMaxDeltaBic = -10.0;
 // Close to the floor: at most this share of the baseline's excess over the floor left...
@@ -46,6 +34,20 @@ constexpr double kMinOwnEyeGainPct = 40.0;
 constexpr double kOwnEyeWellAbove = 2.5;
 // The most a candidate's rank loses for the channel it makes worse [percentage points].
 constexpr double kOtherChannelPenaltyPct = 10.0;
+
+// A covariate candidate regresses the eyes' own variation on a number drawn with each eye: on
+// 24 effect-free draws of 9 eyes (tuning seeds 20000-20023, 2026-11-28) covariates gained up
+// to 27.6 % by chance (6 forms of up to 4 parameters, 3 keys), the other candidates up to
+// 14.4 %; covariates of the zoo at 3x the floor or more gained 36-80 %. So a covariate needs
+// this much at 9 runs; a regression's chance gain falls as 1/runs, and so does the bar, down
+// to kMinGainPct (at 17 runs or more: an extrapolation, the zoo draws 9).
+constexpr double kMinCovariateGainPct9 = 30.0;
+constexpr double kCalibrationRuns = 9.0;
+
+double min_population_gain_pct(const std::string& candidate, std::size_t runs) {
+  if (candidate.rfind("covariate:", 0) != 0) return kMinGainPct;
+  return std::max(kMinGainPct, kMinCovariateGainPct9 * kCalibrationRuns / static_cast<double>(std::max<std::size_t>(runs, 1)));
+}
 
 std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv, const std::vector<const PreparedRun*>& runs) {
   std::array<double, kPhaseCount> sse{};
