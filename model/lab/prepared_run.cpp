@@ -169,7 +169,7 @@ void pack_fit_rows(PreparedRun& run) {
 }
 
 RowBudget row_budget(std::size_t runs, std::size_t samples) {
-  constexpr std::size_t kFitRows = 16000, kMinFitRows = 150, kMaxFitRows = 800, kScored = 400000;
+  constexpr std::size_t kFitRows = 10000, kMinFitRows = 100, kMaxFitRows = 800, kScored = 250000;
   RowBudget b;
   runs = std::max<std::size_t>(runs, 1);
   b.fit_rows_per_run = std::clamp(kFitRows / runs, kMinFitRows, kMaxFitRows);

@@ -67,10 +67,12 @@ void pack_fit_rows(PreparedRun& run);
 std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n);
 
 // Fit rows and scored samples for a set of `runs` runs holding `samples` analysed samples
-// in all: up to 800 fit rows per run while the set is small, fewer (not under 150) beyond
-// 20 runs, so that a fit sees at most ~16,000 rows (100 runs: 160 each, still 10x the most
+// in all: up to 800 fit rows per run while the set is small, fewer (not under 100) beyond
+// 12 runs, so that a fit sees at most ~10,000 rows (100 runs: 100 each, still 10x the most
 // per-run coefficients of any term, and a diagnosis stays under 30 s on 2 cores); every analysed sample is scored up to
-// 400,000 in all, beyond that evenly thinned (100 runs x 15,000 samples: 4,000 per run).
+// 250,000 in all, beyond that evenly thinned (100 runs x 15,000 samples: 2,500 per run).
+// 2026-11-28: 16,000 rows and 400,000 scored samples had grown to 40 s with the forms added
+// since 2026-11-24; the zoo's 9-run draws keep 800 rows and every sample.
 struct RowBudget {
   std::size_t fit_rows_per_run = 800;
   std::size_t scored_per_run = 0;  // 0: every analysed sample
