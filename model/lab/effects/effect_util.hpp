@@ -1,5 +1,6 @@
 #pragma once
 // Small helpers shared by the effect terms.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -33,12 +34,18 @@ inline void fourier(double cycles, int harmonics, double* row) {
 }
 
 // Largest amplitude of the first harmonic over the runs' coefficient vectors [N].
-inline double largest_amplitude(const std::vector<Eigen::VectorXd>& coefficients) {
-  double best = 0.0;
+// Per run: the amplitude of its first sine/cosine pair of coefficients (runs without one left out).
+inline std::vector<double> run_amplitudes(const std::vector<Eigen::VectorXd>& coefficients) {
+  std::vector<double> out;
   for (const auto& c : coefficients) {
-    if (c.size() >= 2) best = std::max(best, std::hypot(c(0), c(1)));
+    if (c.size() >= 2) out.push_back(std::hypot(c(0), c(1)));
   }
-  return best;
+  return out;
+}
+
+inline double largest_amplitude(const std::vector<Eigen::VectorXd>& coefficients) {
+  const std::vector<double> amplitudes = run_amplitudes(coefficients);
+  return amplitudes.empty() ? 0.0 : *std::max_element(amplitudes.begin(), amplitudes.end());
 }
 
 inline bool is_tissue_phase(Phase p) { return p != Phase::kRetraction && p != Phase::kApproach; }

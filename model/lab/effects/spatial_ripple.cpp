@@ -44,10 +44,7 @@ void SpatialRipple::design(const SampleView& s, const double* p, double* row) co
 
 std::string SpatialRipple::evidence(const EvidenceInput& in) const {
   if (form_ == kWithTheLoad) {
-    std::vector<double> share;  // per run: amplitude / force [1]
-    for (const auto& c : in.run_coefficients) {
-      if (c.size() >= 2) share.push_back(std::hypot(c(0), c(1)));
-    }
+    std::vector<double> share = run_amplitudes(in.run_coefficients);  // per run: amplitude / force [1]
     return format("ripple growing with the load: the residual is periodic in displacement with a %.3f mm period, its amplitude "
                   "proportional to the force on the screw (%.1f %% of the force in the median run, phase differs by run)",
                   in.shared[0], share.empty() ? 0.0 : 100.0 * median(std::move(share))) + honesty(in);
