@@ -230,6 +230,40 @@ TEST(ShaftFriction, SlidingFormsVanishInEveryStopAndTheHeldFormKeepsItsLoadUntil
   EXPECT_GT(retracting, 500);
 }
 
+// Presliding (an elastic-plastic grip of 0.2 mm): held through the stops and the hold like the
+// held form, but the retraction turns it over the grip length instead of at once.
+TEST(ShaftFriction, ThePreslidingGripKeepsItsLoadAtRestAndTurnsOverItsGripLengthOnTheWayOut) {
+  sim::GeneratorOptions g;
+  sim::RunSpec spec;
+  sim::apply_standard_protocol(spec);
+  spec.eye_id = "grip";
+  const RunData run = sim::generate_run(g, spec);
+  const PreparedRun p = prepare_run(run);
+  ASSERT_TRUE(p.seg.punctured);
+  const effects::ShaftFriction grip(effects::ShaftFriction::kPresliding);
+  const double params[] = {0.01, 0.2};  // mu [N/mm], grip [mm]
+  const double deepest_mm = *std::max_element(run.x_mm.begin(), run.x_mm.end());
+  int at_rest = 0, half_turned = 0, turned = 0;
+  for (std::size_t i = 0; i < run.size(); ++i) {
+    const SampleView s{&p, i, run.x_mm[i], run.t_s[i], run.force_N[i], p.velocity_mm_s[i], p.hold_s[i], 1.5, p.seg.phase[i]};
+    const double f = grip.add(s, params, 0.0);  // full friction: 0.01 N/mm x 1.5 mm
+    if (s.phase != Phase::kRetraction && s.hold_s > 0.0) {
+      ++at_rest;
+      // The servo settles back some 20-30 um after a stop's overshoot: 10-15 % of the grip.
+      EXPECT_GT(f, 0.6 * 0.015) << "at " << s.x_mm << " mm, " << s.hold_s << " s into a stop";
+    } else if (s.phase == Phase::kRetraction && deepest_mm - s.x_mm > 0.09 && deepest_mm - s.x_mm < 0.11) {
+      ++half_turned;
+      EXPECT_LT(std::abs(f), 0.3 * 0.015) << "0.1 mm out, half the grip";
+    } else if (s.phase == Phase::kRetraction && deepest_mm - s.x_mm > 0.3) {
+      ++turned;
+      EXPECT_DOUBLE_EQ(f, -0.015);
+    }
+  }
+  EXPECT_GT(at_rest, 2500);
+  EXPECT_GT(half_turned, 3);
+  EXPECT_GT(turned, 500);
+}
+
 // The blind zoo's failure this answers: a covariate acting as a step, the held-out run the
 // only one far past the others, was extrapolated as a slope to 5x its force (70034, 2026-11-28).
 TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFileKeepsThatRange) {

@@ -1,6 +1,7 @@
 #include "shaft_friction.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "effect_util.hpp"
 
@@ -10,7 +11,7 @@ ShaftFriction::ShaftFriction(int form) : FamilyTerm(form_names(), form) {}
 
 const std::vector<std::string>& ShaftFriction::form_names() {
   static const std::vector<std::string> kNames = {"coulomb", "saturating", "viscous", "coulomb + viscous", "asymmetric", "static breakaway",
-                                                  "held at rest"};
+                                                  "held at rest", "presliding"};
   return kNames;
 }
 
@@ -24,14 +25,20 @@ std::vector<ParamSpec> ShaftFriction::shared_params() const {
     case kCoulombViscous: return {mu, eta};
     case kAsymmetric: return {{"mu_in", "N/mm", 0.0, -0.1, 0.1}, {"mu_out", "N/mm", 0.0, -0.1, 0.1}};
     case kBreakaway: return {mu, {"mu_s", "N/mm", 0.0, -0.1, 0.2}, {"v_s", "mm/s", 0.3, 0.01, 5.0}};
+    case kPresliding: return {{"mu_grip", "N/mm", 0.0, -0.1, 0.1}, {"grip_mm", "mm", 0.1, 0.003, 2.0}};
     default: return {mu, {"kappa", "1/mm", 0.0, -0.3, 3.0}};
   }
 }
 
 std::vector<std::vector<double>> ShaftFriction::starts() const {
-  if (form_ != kBreakaway) return EffectTerm::starts();
-  std::vector<std::vector<double>> out;  // the static excess needs a start off zero, or v_s has no gradient
-  for (const double v_s : {0.05, 0.2, 1.0}) out.push_back({0.003, 0.005, v_s});
+  std::vector<std::vector<double>> out;  // the friction needs a start off zero, or the speed or distance has no gradient
+  if (form_ == kBreakaway) {
+    for (const double v_s : {0.05, 0.2, 1.0}) out.push_back({0.003, 0.005, v_s});
+  } else if (form_ == kPresliding) {
+    for (const double grip : {0.02, 0.1, 0.5}) out.push_back({0.005, grip});
+  } else {
+    return EffectTerm::starts();
+  }
   return out;
 }
 
@@ -65,6 +72,17 @@ double motion_direction(const SampleView& s) {
 // keeps the force of the last slide; only the retraction reverses it.
 double held_direction(const SampleView& s) { return s.phase == Phase::kRetraction ? -1.0 : 1.0; }
 
+// Presliding as an elastic-plastic grip (a Jenkins element: a spring until it slips): the
+// tissue holds the shaft like a spring, so the friction follows the blade's travel back from
+// its furthest point d = front - x linearly, from +1 (pulled in) to -1 at d = grip, and slides
+// beyond. A stop keeps the load; a servo settling back some µm at the hold, or the first part
+// of a retraction, turn it only partly.
+double gripped_direction(const SampleView& s, double grip_mm) {
+  const double front_mm = s.inputs != nullptr ? s.inputs->front_mm : s.run->front_mm[s.i];
+  const double back_mm = std::max(0.0, front_mm - s.x_mm);
+  return 1.0 - 2.0 * std::min(1.0, back_mm / grip_mm);
+}
+
 }  // namespace
 
 double ShaftFriction::add(const SampleView& s, const double* p, double /*force_N*/) const {
@@ -78,6 +96,7 @@ double ShaftFriction::add(const SampleView& s, const double* p, double /*force_N
     case kAsymmetric: return length * (dir > 0.0 ? p[0] : (dir < 0.0 ? -p[1] : 0.0));
     case kBreakaway: return length * dir * (p[0] + p[1] * std::exp(-std::abs(s.velocity_mm_s) / p[2]));
     case kHeldAtRest: return p[0] * length * held_direction(s);
+    case kPresliding: return p[0] * length * gripped_direction(s, p[1]);
     default: return p[0] * effective_length(length, p[1]) * dir;
   }
 }
@@ -100,6 +119,10 @@ std::string ShaftFriction::evidence(const EvidenceInput& in) const {
     case kHeldAtRest:
       text = format("coulomb friction held at rest: %.4f N per mm inserted, kept through stops and the hold, reversing on retraction (%.3f N at %.1f mm)",
                     p[0], p[0] * deepest, deepest);
+      break;
+    case kPresliding:
+      text = format("presliding friction (elastic-plastic grip): %.4f N per mm inserted, held through stops and the hold, reversed over %.3f mm as the blade backs off "
+                    "(%.3f N at %.1f mm)", p[0], p[1], p[0] * deepest, deepest);
       break;
     case kAsymmetric: text = format("direction-asymmetric friction: %.4f N/mm inserting, %.4f N/mm retracting (%.3f N at %.1f mm inserting)", p[0], p[1], p[0] * deepest, deepest); break;
     case kBreakaway:

@@ -11,6 +11,7 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kReferenceVelocity_mm_s = 2.0;
 constexpr double kReferenceIop_mmHg = 15.0;
 constexpr double kCovariateReference = 2.0;
+constexpr double kPresliding_mm = 0.1;  // LuGre: the blade's travel over which tissue grip builds to the static level
 
 double sawtooth(double cycles) { return 2.0 * (cycles - std::floor(cycles)) - 1.0; }
 double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
@@ -60,9 +61,25 @@ double friction_per_mm(const EffectSlot& slot, double v) {
   if (slot.form == 0) {  // Coulomb + viscous, per inserted length
     return size * (0.004 + 0.0015 * speed) * std::tanh(v / 0.05);
   }
-  // Stribeck: static 0.009, Coulomb 0.004 N/mm, Stribeck speed 0.7 mm/s, + viscous
-  const double stribeck = 0.004 + 0.005 * std::exp(-(speed / 0.7) * (speed / 0.7));
-  return size * (stribeck + 0.0005 * speed) * std::tanh(v / 0.02);
+  return stribeck_curve_per_mm(slot, speed) * std::tanh(v / 0.02);
+}
+
+double stribeck_curve_per_mm(const EffectSlot& slot, double speed_mm_s) {
+  // Static 0.009, Coulomb 0.004 N/mm, Stribeck speed 0.7 mm/s, + viscous 0.0005 N/mm per mm/s
+  const double stribeck = 0.004 + 0.005 * std::exp(-(speed_mm_s / 0.7) * (speed_mm_s / 0.7));
+  return slot.size * (stribeck + 0.0005 * speed_mm_s);
+}
+
+double lugre_step(const EffectSlot& slot, double z_N_per_mm, double dx_mm, double speed_mm_s) {
+  // LuGre (Canudas de Wit et al. 1995) without bristle damping, per inserted length: the
+  // bristles (here the tissue gripping the shaft) deflect with the blade, dz/dx = sigma0 (1 -
+  // z sgn(dx) / g(v)), so a stop keeps the load and a reversal of a few µm moves z by
+  // sigma0 per mm, not by a full flip. sigma0 lets the static level build over 0.05 mm.
+  const double g = stribeck_curve_per_mm(slot, speed_mm_s);
+  if (g <= 0.0 || dx_mm == 0.0) return 0.0;
+  const double sigma0 = stribeck_curve_per_mm(slot, 0.0) / kPresliding_mm;
+  const double direction = dx_mm > 0.0 ? 1.0 : -1.0;
+  return sigma0 * (1.0 - z_N_per_mm * direction / g) * dx_mm;
 }
 
 double dahl_step(const EffectSlot& slot, double z, double dx_mm) {

@@ -33,7 +33,7 @@ void TissueTruth::new_eye(RandomSource& rng) {
   hold_front_mm_ = 0.0;
   tear_N_ = 0.0;
   relaxed_ = relaxed_at_hold_start_ = 0.0;
-  dahl_N_per_mm_ = 0.0;
+  friction_state_N_per_mm_ = 0.0;
   // Always three draws, so the noise stream does not depend on eye_variability.
   const double spread = p_.eye_variability;
   eye_stiffness_ = std::max(0.3, 1.0 + rng.gaussian(p_.eye_stiffness_sigma * spread));
@@ -115,7 +115,7 @@ double TissueTruth::friction_force(double tip_mm, double velocity_mm_s) const {
   const EffectSlot& friction = (*effects_)[EffectKind::kShaftFriction];
   if (!friction.on || !punctured_) return 0.0;
   const double inserted_mm = std::max(0.0, std::min(tip_mm, front_mm_) - punctured_at_mm_);
-  if (friction.form == 2) return dahl_N_per_mm_ * inserted_mm;
+  if (friction.form != 0) return friction_state_N_per_mm_ * inserted_mm;  // LuGre and Dahl: a state
   return forms::friction_per_mm(friction, velocity_mm_s) * inserted_mm;
 }
 
@@ -227,8 +227,10 @@ double TissueTruth::update(const TissueInput& input, RandomSource& rng) {
   tip_mm_ = solve_tip(input);
   track_motion(input, rng);
   const EffectSlot& friction = (*effects_)[EffectKind::kShaftFriction];
-  if (friction.on && friction.form == 2 && punctured_ && previous_tip > -1.0) {
-    dahl_N_per_mm_ += forms::dahl_step(friction, dahl_N_per_mm_, tip_mm_ - previous_tip);
+  if (friction.on && friction.form != 0 && punctured_ && previous_tip > -1.0) {
+    const double dx_mm = tip_mm_ - previous_tip;
+    friction_state_N_per_mm_ += friction.form == 1 ? forms::lugre_step(friction, friction_state_N_per_mm_, dx_mm, std::abs(input.velocity_mm_s))
+                                                   : forms::dahl_step(friction, friction_state_N_per_mm_, dx_mm);
   }
   const double tissue = force_at(tip_mm_, input.iop_mmHg) + friction_force(tip_mm_, input.velocity_mm_s);
   force_N_ = tissue + extra_force(input, tissue);

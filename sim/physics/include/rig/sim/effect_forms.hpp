@@ -20,6 +20,10 @@ IopChange iop_change(const EffectSlot& slot, double iop_mmHg);
 
 // Friction per inserted length [N/mm] for the rate-dependent forms (signed by velocity).
 double friction_per_mm(const EffectSlot& slot, double velocity_mm_s);
+// The Stribeck curve g(|v|) [N/mm]: the friction per inserted length in steady sliding.
+double stribeck_curve_per_mm(const EffectSlot& slot, double speed_mm_s);
+// LuGre's bristle law: the change of the friction state z [N/mm] over a displacement dx [mm].
+double lugre_step(const EffectSlot& slot, double z_N_per_mm, double dx_mm, double speed_mm_s);
 // Dahl's law: the change of the friction state z [N/mm] over a displacement dx [mm].
 double dahl_step(const EffectSlot& slot, double z_N_per_mm, double dx_mm);
 

@@ -69,7 +69,7 @@ class TissueTruth {
   double tear_cycles_ = 0.0;       // periodic tearing: tears completed since the puncture
   double relaxed_ = 0.0;           // relaxed fraction of the tissue force (stress_relaxation)
   double relaxed_at_hold_start_ = 0.0;
-  double dahl_N_per_mm_ = 0.0;     // Dahl friction state per inserted length
+  double friction_state_N_per_mm_ = 0.0;  // LuGre / Dahl friction state per inserted length
   double tear_from_mm_ = 0.0;      // aperiodic tearing: the current tear's start and end
   double tear_to_mm_ = 0.0;
   std::shared_ptr<const ExtraForce> extra_;
