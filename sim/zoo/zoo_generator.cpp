@@ -44,13 +44,14 @@ std::pair<double, double> covariate_scale(const std::string& key, int runs) {
   return {half, half};
 }
 
-// A random link on z in [-1, 1]: linear, a soft step at a random threshold, or a bend.
+// A random link on z in [-1, 1]: curved, a soft step at a random threshold, or a bend. (Not
+// linear: acting everywhere, a linear link is the lab's "linear, all phases" form exactly.)
 std::function<double(double)> draw_link(sim::RandomSource& rng, std::string& words) {
   const int type = static_cast<int>(rng.uniform(0.0, 3.0));
   const double sign = rng.sign();
   if (type == 0) {
-    words = "linear link";
-    return [sign](double z) { return sign * z; };
+    words = "curved link";
+    return [sign](double z) { return sign * (z + 0.5 * z * z); };
   }
   if (type == 1) {
     const double threshold = rng.uniform(-0.5, 0.5);

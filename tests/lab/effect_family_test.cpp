@@ -69,15 +69,15 @@ TEST_P(NonDefaultForm, IsPickedByItsFamilyNamedInTheEvidenceAndBringsTheErrorToT
 INSTANTIATE_TEST_SUITE_P(
     EveryFamily, NonDefaultForm,
     ::testing::Values(FormScenario{"shaft_friction:linear", "shaft_friction", {"coulomb"}},
-                      FormScenario{"rate_dependence:linear", "rate_dependence", {"linear"}},
+                      FormScenario{"rate_dependence:exp_saturating", "rate_dependence", {"saturating", "log-quadratic"}},
                       FormScenario{"rig_compliance:stiffening=2", "rig_compliance", {"stiffening"}},
                       FormScenario{"sensor_drift:warmup=2", "sensor_drift", {"thermal"}},
                       FormScenario{"stress_relaxation:exponential", "stress_relaxation", {"one exponential"}, true},
-                      FormScenario{"stress_relaxation:power", "stress_relaxation", {"power law", "two-term Prony"}, true},
+                      FormScenario{"stress_relaxation:mittag_leffler", "stress_relaxation", {"stretched exponential", "power law", "two-term Prony"}, true},
                       FormScenario{"spatial_ripple", "spatial_ripple", {"sine"}},
                       FormScenario{"mains_interference", "mains_interference", {"sine"}},
                       FormScenario{"stick_slip:sine", "stick_slip", {"sine"}},
-                      FormScenario{"iop_stiffness:linear=2", "iop_stiffness", {"linear", "exponential"}},
+                      FormScenario{"iop_stiffness:recruitment=2", "iop_stiffness", {"exponential-quadratic", "exponential"}},
                       // a softening of the cut that sets in around 2 h post mortem (the simulator has
                       // had no linear covariate form since 2026-11-24: the scenario named none)
                       FormScenario{"covariate:post_mortem_h:sigmoid=2", "covariate:post_mortem_h", {"after the puncture only"}}),

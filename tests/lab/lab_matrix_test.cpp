@@ -42,9 +42,9 @@ TEST_P(HiddenEffect, IsNamedByTheDiagnosisAndFittingItBringsTheErrorToTheNoiseFl
 // polynomial, ... The blind zoo (./rig bench lab) scores many more forms and seeds.
 INSTANTIATE_TEST_SUITE_P(
     EveryCatalogueEffect, HiddenEffect,
-    ::testing::Values(Scenario{"rate_dependence", "rate_dependence"}, Scenario{"rate_dependence:linear", "rate_dependence"},
+    ::testing::Values(Scenario{"rate_dependence", "rate_dependence"}, Scenario{"rate_dependence:exp_saturating", "rate_dependence"},
                       Scenario{"rate_dependence=0.5", "rate_dependence"}, Scenario{"iop_stiffness", "iop_stiffness"},
-                      Scenario{"iop_stiffness:linear", "iop_stiffness"}, Scenario{"shaft_friction", "shaft_friction"},
+                      Scenario{"iop_stiffness:recruitment", "iop_stiffness"}, Scenario{"shaft_friction", "shaft_friction"},
                       Scenario{"shaft_friction:stribeck", "shaft_friction"}, Scenario{"shaft_friction=0.4", "shaft_friction"},
                       Scenario{"rig_compliance", "rig_compliance"}, Scenario{"rig_compliance:stiffening=2", "rig_compliance"},
                       Scenario{"sensor_drift", "sensor_drift"}, Scenario{"sensor_drift:warmup", "sensor_drift"},
@@ -53,7 +53,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Scenario{"mains_interference:harmonics", "mains_interference"},
                       Scenario{"mains_interference:60hz", "mains_interference"}, Scenario{"stick_slip", "stick_slip"},
                       Scenario{"stick_slip:growing", "stick_slip"}, Scenario{"stress_relaxation", "stress_relaxation"},
-                      Scenario{"stress_relaxation:power", "stress_relaxation"},
+                      Scenario{"stress_relaxation:mittag_leffler", "stress_relaxation"},
                       Scenario{"covariate:post_mortem_h", "covariate:post_mortem_h"},
                       Scenario{"covariate:post_mortem_h:hinge_all", "covariate:post_mortem_h"}),
     [](const ::testing::TestParamInfo<Scenario>& param) {

@@ -59,49 +59,10 @@ std::vector<double> grid(double from, double to, int n) {
   return out;
 }
 
-// Half a per cent of the effect is far more than any rounding of an exact special case. (A
-// power-law relaxation is the closest: 0.7 % over a 3 s hold, docs/sim.md.)
+// Half a per cent of the effect is far more than any rounding of an exact special case.
 constexpr double kLeftOver = 0.005;
 
-TEST(SimulatedForms, AreNoRateLawOfTheLabsLogQuadraticShape) {
-  // The lab: factor = exp(p0 u + p1 u^2), u = ln(v / 2 mm/s), on every phase.
-  for (const std::string form : {"power_cutoff", "logarithmic", "linear", "carreau"}) {
-    const EffectSlot s = slot(EffectKind::kRateDependence, form);
-    const double r = residual_against(grid(0.5, 4.0, 60), [&](double v) { return std::log(forms::rate_factor(s, v, true)); },
-                                      [](double v) { const double u = std::log(v / 2.0); return std::vector<double>{u, u * u}; });
-    std::printf("rate_dependence:%-14s residual %.3f of the effect\n", form.c_str(), r);
-    EXPECT_GT(r, kLeftOver) << form;
-  }
-  EXPECT_EQ(forms::rate_factor(slot(EffectKind::kRateDependence, "carreau"), 0.5, false), 1.0)
-      << "Carreau acts on the cut only, the lab's term on every phase";
-}
-
-TEST(SimulatedForms, AreNoComplianceOfTheLabsQuadraticLag) {
-  for (const std::string form : {"hardening", "softening", "backlash", "stiffening"}) {
-    const EffectSlot s = slot(EffectKind::kRigCompliance, form);
-    const double r = residual_against(grid(0.0, 0.3, 60), [&](double f) { return forms::compliance_lag_mm(s, f); },
-                                      [](double f) { return std::vector<double>{f, f * f}; });
-    std::printf("rig_compliance:%-12s residual %.3f of the lag\n", form.c_str(), r);
-    EXPECT_GT(r, kLeftOver) << form;
-  }
-}
-
-TEST(SimulatedForms, AreNoRelaxationOfTheLabsStretchedExponential) {
-  // The lab: relaxed = p0 (1 - exp(-(t/p1)^p2)); the best (p1, p2) on a fine grid, p0 by least squares.
-  const auto times = grid(0.01, 3.0, 120);
-  for (const std::string form : {"prony2", "prony3", "power"}) {
-    const EffectSlot s = slot(EffectKind::kStressRelaxation, form);
-    double best = 1e9;
-    for (double tau = 0.02; tau < 30.0; tau *= 1.05) {
-      for (double beta = 0.1; beta <= 1.5; beta += 0.01) {
-        best = std::min(best, residual_against(times, [&](double t) { return forms::relaxed_fraction(s, t); },
-                                               [&](double t) { return std::vector<double>{1.0 - std::exp(-std::pow(t / tau, beta))}; }));
-      }
-    }
-    std::printf("stress_relaxation:%-8s residual %.3f of the relaxed fraction\n", form.c_str(), best);
-    EXPECT_GT(best, kLeftOver) << form;
-  }
-}
+// Every simulated law against every lab form of its family: sim_forms_test.cpp.
 
 TEST(SimulatedForms, AreNoDriftOfTheLabsQuadraticInTime) {
   for (const std::string form : {"thermal", "step", "warmup"}) {
@@ -381,7 +342,7 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
 // period 0.35 (v / 2 mm/s)^0.3 mm at the run's commanded speed v.
 double tearing_left_by_its_own_law(const model::RunData& data) {
   const model::PreparedRun run = model::prepare_run(data);
-  const double period_mm = 0.35 * std::pow(run.velocity_cmd_mm_s / 2.0, 0.3);
+  const double period_mm = 1.0 / sim::forms::tearing_cycles_per_mm(run.velocity_cmd_mm_s);  // the simulator's own law
   std::vector<std::size_t> rows;
   double deepest = -1e9;
   for (std::size_t i = 0; i < data.size(); ++i) {

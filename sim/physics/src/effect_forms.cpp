@@ -30,10 +30,12 @@ double rate_factor(const EffectSlot& slot, double v, bool after_puncture) {
       return std::max(0.1, 1.0 + 0.45 * size * (carreau_stress(v) / carreau_stress(kReferenceVelocity_mm_s) - 1.0));
     case 1:  // power law with a cutoff: no rate effect below 1.5 mm/s
       return std::pow(std::max(v, 1.5) / kReferenceVelocity_mm_s, 0.35 * size);
-    case 2:  // logarithmic at speed, linear when slow (Eyring: asinh(v / 1 mm/s))
-      return std::max(0.1, 1.0 + 0.3 * size * (std::asinh(v) / std::asinh(kReferenceVelocity_mm_s) - 1.0));
-    default:  // linear
-      return std::max(0.1, 1.0 + 0.075 * size * (v - kReferenceVelocity_mm_s));
+    case 2:  // logarithmic at speed, linear when slow (Eyring: asinh(v / 0.6 mm/s))
+      return std::max(0.1, 1.0 + 0.3 * size * (std::asinh(v / 0.6) / std::asinh(kReferenceVelocity_mm_s / 0.6) - 1.0));
+    default: {  // exponential saturation: the rate stiffening levels off past ~1.2 mm/s
+      const auto rise = [](double speed) { return 1.0 - std::exp(-speed / 1.2); };
+      return std::max(0.1, 1.0 + 0.3 * size * (rise(v) / rise(kReferenceVelocity_mm_s) - 1.0));
+    }
   }
 }
 
@@ -41,16 +43,18 @@ IopChange iop_change(const EffectSlot& slot, double iop_mmHg) {
   const double dp = iop_mmHg - kReferenceIop_mmHg;
   IopChange change;
   switch (slot.form) {
-    case 0:  // saturating: the stiffening levels off above ~18 mmHg
-      change.stiffness_factor = 1.0 + 0.35 * slot.size * std::tanh(dp / 2.5);
+    case 0:  // saturating, exponentially: the stiffening levels off above ~18 mmHg
+      change.stiffness_factor = std::max(0.1, 1.0 + 0.35 * slot.size * -std::expm1(-dp / 1.5));
       break;
     case 1:  // pre-stress: the slack toe region shortens, the slope barely changes
       change.toe_factor = std::clamp(1.0 - 0.25 * slot.size * dp, 0.1, 2.0);
       change.stiffness_factor = 1.0 + 0.02 * slot.size * dp;
       break;
-    default:  // linear
-      change.stiffness_factor = std::max(0.1, 1.0 + 0.08 * slot.size * dp);
+    default: {  // fibre recruitment: no change below ~16 mmHg, then +12 % per mmHg (a smooth hinge)
+      const double over = dp - 1.0;
+      change.stiffness_factor = 1.0 + 0.12 * slot.size * 0.3 * std::log1p(std::exp(over / 0.3));
       break;
+    }
   }
   return change;
 }
@@ -58,8 +62,8 @@ IopChange iop_change(const EffectSlot& slot, double iop_mmHg) {
 double friction_per_mm(const EffectSlot& slot, double v) {
   const double size = slot.size;
   const double speed = std::abs(v);
-  if (slot.form == 0) {  // Coulomb + viscous, per inserted length
-    return size * (0.004 + 0.0015 * speed) * std::tanh(v / 0.05);
+  if (slot.form == 0) {  // Coulomb + a lubricating film's drag growing as sqrt(v), per inserted length
+    return size * (0.004 + 0.003 * std::sqrt(speed)) * std::tanh(v / 0.05);
   }
   return stribeck_curve_per_mm(slot, speed) * std::tanh(v / 0.02);
 }
@@ -101,8 +105,8 @@ double compliance_lag_mm(const EffectSlot& slot, double force_N) {
       return f / 3.0 * size * (1.0 + (f / 0.15) * (f / 0.15));
     case 2:  // backlash: a 0.04 mm gap closes at ~10 mN, then a stiff 6 N/mm mount
       return 0.04 * size * std::tanh(f / 0.01) + f / 6.0;
-    default:  // stiffening: k = 1.5 (0.6 + F / 0.15 N) N/mm
-      return f / (1.5 / size * (0.6 + f / 0.15));
+    default:  // exponential stiffening: k = 0.9/size exp(F / 0.15 N) N/mm, lag = integral dF / k
+      return 0.15 * size / 0.9 * -std::expm1(-f / 0.15);
   }
 }
 
@@ -111,14 +115,18 @@ double relaxed_fraction(const EffectSlot& slot, double t) {
   const double size = slot.size;
   double fraction = 0.0;
   switch (slot.form) {
-    case 0:  // two-term Prony series: 0.25 s and 3 s
-      fraction = 0.15 * (1.0 - std::exp(-t / 0.25)) + 0.2 * (1.0 - std::exp(-t / 3.0));
-      break;
+    case 0: {  // Fung's quasi-linear viscoelasticity: a box spectrum from 0.05 s to 20 s, C 0.08
+      const auto e1 = [](double x) { return -std::expint(-x); };  // the exponential integral E1
+      const double c = 0.08 * size, tau1 = 0.05, tau2 = 20.0;
+      return std::clamp(1.0 - (1.0 + c * (e1(t / tau2) - e1(t / tau1))) / (1.0 + c * std::log(tau2 / tau1)), 0.0, 0.9);
+    }
     case 1:  // three-term Prony series: 0.1 s, 1 s, 8 s
       fraction = 0.1 * (1.0 - std::exp(-t / 0.1)) + 0.12 * (1.0 - std::exp(-t)) + 0.15 * (1.0 - std::exp(-t / 8.0));
       break;
-    default:  // power law (fractional): 1 - (1 + t/0.3 s)^-0.15
-      return 1.0 - std::pow(1.0 + t / 0.3, -0.15 * size);
+    default: {  // fractional Zener: Mittag-Leffler E_1/2(-(t/0.5 s)^1/2) = exp(z^2) erfc(z), 30 %
+      const double z = std::sqrt(t / 0.5);
+      return std::min(0.9, 0.3 * size * (1.0 - std::exp(z * z) * std::erfc(z)));
+    }
   }
   return std::min(0.9, size * fraction);
 }
@@ -151,7 +159,8 @@ double tearing_pattern(const EffectSlot& slot, double past_mm, double tear_cycle
 // Velocity weakening: a tear is 0.35 (v/2)^0.3 mm long at the speed it was cut. Until
 // 2026-11-28 the pattern was sawtooth(past / period(v now)): each percent of servo speed
 // ripple then moved the tenth tear by a tenth of a cycle, a jitter no tearing has.
-double tearing_cycles_per_mm(double v) { return 1.0 / (0.35 * std::pow(std::max(v, 0.1) / kReferenceVelocity_mm_s, 0.3)); }
+// A tear's length grows linearly with the speed, 0.35 mm at 2 mm/s (0.2 mm + 0.075 s v).
+double tearing_cycles_per_mm(double v) { return 1.0 / (0.2 + 0.075 * std::max(v, 0.1)); }
 
 double tearing_amplitude_N(const EffectSlot& slot, double v) {
   const double amplitude = 0.006 * slot.size;
@@ -172,8 +181,8 @@ double drift_N(const EffectSlot& slot, double t, double random_walk_N) {
       const double at = 3.0 + 17.0 * slot.run_values[1];
       return 0.008 * size * logistic((t - at) / 0.005);
     }
-    default:  // warm-up, 4 s
-      return 0.012 * size * (1.0 - std::exp(-t / 4.0));
+    default:  // warm-up of the gauge (1 s) against its housing (8 s): two time constants, an overshoot
+      return 0.012 * size * (1.0 - 1.6 * std::exp(-t / 1.0) + 0.6 * std::exp(-t / 8.0));
   }
 }
 

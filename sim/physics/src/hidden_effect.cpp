@@ -17,15 +17,15 @@ struct EffectInfo {
 
 const std::array<EffectInfo, kEffectKindCount>& catalogue() {
   static const std::array<EffectInfo, kEffectKindCount> kInfo{{
-      {EffectKind::kRateDependence, "rate_dependence", {"carreau", "power_cutoff", "logarithmic", "linear"}},
-      {EffectKind::kIopStiffness, "iop_stiffness", {"saturating", "prestress", "linear"}},
+      {EffectKind::kRateDependence, "rate_dependence", {"carreau", "power_cutoff", "logarithmic", "exp_saturating"}},
+      {EffectKind::kIopStiffness, "iop_stiffness", {"saturating", "prestress", "recruitment"}},
       {EffectKind::kShaftFriction, "shaft_friction", {"coulomb_viscous", "stribeck", "dahl"}},
       {EffectKind::kRigCompliance, "rig_compliance", {"hardening", "softening", "backlash", "stiffening"}},
       {EffectKind::kSensorDrift, "sensor_drift", {"thermal", "random_walk", "step", "warmup"}},
       {EffectKind::kSpatialRipple, "spatial_ripple", {"lead_error", "load_modulated", "sawtooth"}},
       {EffectKind::kMainsInterference, "mains_interference", {"drifting", "harmonics", "motor_gated", "60hz"}},
       {EffectKind::kStickSlip, "stick_slip", {"aperiodic", "growing", "velocity_weakening"}},
-      {EffectKind::kStressRelaxation, "stress_relaxation", {"prony2", "prony3", "power"}},
+      {EffectKind::kStressRelaxation, "stress_relaxation", {"fung_qlv", "prony3", "mittag_leffler"}},
       {EffectKind::kCovariate, "covariate", {"sigmoid", "hinge_all", "puncture_shift"}},
   }};
   return kInfo;
