@@ -217,6 +217,26 @@ TEST(SimulatedForms, NoRelaxationIsOneOfTheLabsRelaxations) {
   }
 }
 
+// A technician may hold for minutes: every relaxation stays a fraction in [0, 0.9] that grows
+// smoothly (the Mittag-Leffler form's exp(z^2) erfc(z) is inf x 0 past z ~ 26, 6 min: without
+// its asymptote the fraction jumped from 0.28 to the 0.9 cap).
+TEST(SimulatedForms, RelaxationStaysAFractionInHoldsOfAnyLength) {
+  for (const std::string& form : effect_forms(EffectKind::kStressRelaxation)) {
+    const EffectSlot s = slot(EffectKind::kStressRelaxation, form);
+    double previous = 0.0;
+    for (const double t : {0.001, 0.1, 1.0, 12.4, 12.6, 60.0, 600.0, 3600.0}) {
+      const double fraction = forms::relaxed_fraction(s, t);
+      EXPECT_TRUE(std::isfinite(fraction)) << form << " at " << t << " s";
+      EXPECT_GE(fraction, previous - 1e-3) << form << " relaxes monotonically, at " << t << " s";
+      if (t >= 60.0) {
+        EXPECT_LT(fraction - previous, 0.2) << form << " jumps at " << t << " s";
+      }
+      EXPECT_LE(fraction, 0.9) << form;
+      previous = fraction;
+    }
+  }
+}
+
 TEST(SimulatedForms, NoMountIsOneOfTheLabsMounts) {
   for (const std::string& form : effect_forms(EffectKind::kRigCompliance)) {
     const EffectSlot s = slot(EffectKind::kRigCompliance, form);

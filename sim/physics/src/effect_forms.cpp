@@ -78,7 +78,7 @@ double lugre_step(const EffectSlot& slot, double z_N_per_mm, double dx_mm, doubl
   // LuGre (Canudas de Wit et al. 1995) without bristle damping, per inserted length: the
   // bristles (here the tissue gripping the shaft) deflect with the blade, dz/dx = sigma0 (1 -
   // z sgn(dx) / g(v)), so a stop keeps the load and a reversal of a few µm moves z by
-  // sigma0 per mm, not by a full flip. sigma0 lets the static level build over 0.05 mm.
+  // sigma0 per mm, not by a full flip. sigma0 lets the static level build over kPresliding_mm.
   const double g = stribeck_curve_per_mm(slot, speed_mm_s);
   if (g <= 0.0 || dx_mm == 0.0) return 0.0;
   const double sigma0 = stribeck_curve_per_mm(slot, 0.0) / kPresliding_mm;
@@ -125,7 +125,9 @@ double relaxed_fraction(const EffectSlot& slot, double t) {
       break;
     default: {  // fractional Zener: Mittag-Leffler E_1/2(-(t/0.5 s)^1/2) = exp(z^2) erfc(z), 30 %
       const double z = std::sqrt(t / 0.5);
-      return std::min(0.9, 0.3 * size * (1.0 - std::exp(z * z) * std::erfc(z)));
+      // Past z = 5 (12.5 s) exp(z^2) overflows where erfc underflows: the asymptote instead.
+      const double remaining = z < 5.0 ? std::exp(z * z) * std::erfc(z) : (1.0 - 0.5 / (z * z)) / (z * std::sqrt(std::numbers::pi));
+      return std::min(0.9, 0.3 * size * (1.0 - remaining));
     }
   }
   return std::min(0.9, size * fraction);
@@ -156,7 +158,7 @@ double tearing_pattern(const EffectSlot& slot, double past_mm, double tear_cycle
   return sawtooth(tear_cycles);  // velocity weakening: build-and-release
 }
 
-// Velocity weakening: a tear is 0.35 (v/2)^0.3 mm long at the speed it was cut. Until
+// Velocity weakening: a tear is as long as the speed it was cut at makes it. Until
 // 2026-11-28 the pattern was sawtooth(past / period(v now)): each percent of servo speed
 // ripple then moved the tenth tear by a tenth of a cycle, a jitter no tearing has.
 // A tear's length grows linearly with the speed, 0.35 mm at 2 mm/s (0.2 mm + 0.075 s v).

@@ -18,7 +18,9 @@ struct IopChange {
 };
 IopChange iop_change(const EffectSlot& slot, double iop_mmHg);
 
-// Friction per inserted length [N/mm] for the rate-dependent forms (signed by velocity).
+// Friction per inserted length [N/mm] in steady sliding, signed by the velocity: the
+// Coulomb + film-drag form as the simulator runs it; the Stribeck form's curve (the simulator
+// runs that one as LuGre's state, lugre_step).
 double friction_per_mm(const EffectSlot& slot, double velocity_mm_s);
 // The Stribeck curve g(|v|) [N/mm]: the friction per inserted length in steady sliding.
 double stribeck_curve_per_mm(const EffectSlot& slot, double speed_mm_s);
