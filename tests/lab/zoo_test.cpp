@@ -339,7 +339,7 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
 // The share of a run's tearing that a sawtooth of the simulator's own law leaves unexplained
 // [1]: the force on new depth inside the cut (0.3 mm past the detected puncture to 0.2 mm
 // before the cut's end), less a quadratic in depth, fitted by 8 harmonics of depth over the
-// period 0.35 (v / 2 mm/s)^0.3 mm at the run's commanded speed v.
+// simulator's own period (forms::tearing_cycles_per_mm) at the run's commanded speed v.
 double tearing_left_by_its_own_law(const model::RunData& data) {
   const model::PreparedRun run = model::prepare_run(data);
   const double period_mm = 1.0 / sim::forms::tearing_cycles_per_mm(run.velocity_cmd_mm_s);  // the simulator's own law
@@ -410,7 +410,7 @@ TEST(SimulatedFriction, StribeckFrictionStaysLoadedThroughTheHoldAndIgnoresTheSe
 
 // Seed 120056: Stribeck friction (LuGre, 3.7x the floor). With the friction held at rest and
 // flipped at once on retraction the best form explained 62 % of the excess and the verdict was
-// `unexplained`; a grip that turns over a length (here ~0.06 mm) explains 82 %.
+// `unexplained`; a grip that reverses over a length (here 0.076 mm) explains 81 %.
 TEST(BlindZoo, FrictionThatTurnsOverAGripLengthIsNamed) { expect_verdict(120056, "shaft_friction"); }
 
 // Seed 120047 tears in build-and-release steps whose length follows the cutting speed. Until
@@ -426,7 +426,8 @@ TEST(SimulatedTearing, KeepsTheLengthOfItsTearsAlongTheCutWhateverTheServoRipple
     left.push_back(tearing_left_by_its_own_law(run));
   }
   std::sort(left.begin(), left.end());
-  // Before: 0.12-0.29 of the tearing left, median 0.19; after: 0.07-0.21, median 0.09.
+  // Before: 0.12-0.29 of the tearing left, median 0.19; after: 0.07-0.21, median 0.09 (both
+  // measured with the earlier period law, 0.35 (v/2)^0.3 mm).
   EXPECT_LT(left[left.size() / 2], 0.14) << "median share left; the largest " << left.back();
 }
 
