@@ -9,6 +9,7 @@
 #include <set>
 
 #include "data_checks.hpp"
+#include "eye_confounds.hpp"
 #include "model_family.hpp"
 
 namespace rig::model {
@@ -314,6 +315,7 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
   d.floor = floor_of(base_family, base.full, runs);
   d.noise_floor_N = d.floor.total_N;
   if (!base.full.converged) d.warnings.push_back("the baseline fit did not converge; its figures are those where it stopped");
+  for (std::string& w : eye_confound_warnings(runs, base.full.eyes, covariate_keys(catalogue))) d.warnings.push_back(std::move(w));
   std::vector<std::string> names;
   const std::set<std::string> present(d.base_effects.begin(), d.base_effects.end());
   for (const std::string& name : catalogue.candidates()) {

@@ -17,6 +17,7 @@
 #include "effects/covariate_scaling.hpp"
 #include "effects/iop_stiffness.hpp"
 #include "effects/shaft_friction.hpp"
+#include "eye_confounds.hpp"
 #include "grid_line.hpp"
 #include "lab_scenarios.hpp"
 #include "model_family.hpp"
@@ -262,6 +263,29 @@ TEST(ShaftFriction, ThePreslidingGripKeepsItsLoadAtRestAndTurnsOverItsGripLength
   EXPECT_GT(at_rest, 2500);
   EXPECT_GT(half_turned, 3);
   EXPECT_GT(turned, 500);
+}
+
+// Zoo draw 170046: a rate law on the cut only fitted as eyes whose cutting scales follow
+// their speeds (r = +0.96), the floor 4.5x the true one and the verdict `unexplained`.
+TEST(EyeConfounds, EyeVariationThatFollowsTheSpeedIsNamedAndChanceVariationIsNot) {
+  const RunData run = one_run({});
+  std::vector<PreparedRun> prepared;
+  std::vector<EyeParams> following, chance;
+  const double chance_scale[] = {0.04, -0.03, 0.01, 0.05, -0.05, 0.02, -0.01, -0.04};
+  for (int k = 0; k < 8; ++k) {
+    prepared.push_back(prepare_run(run));
+    prepared.back().velocity_cmd_mm_s = 0.5 + 0.45 * k;  // [mm/s]
+    prepared.back().iop_mmHg = 15.0 + k % 3;
+    prepared.back().iop_known = true;
+    following.push_back({0.0, 0.1 * (prepared.back().velocity_cmd_mm_s - 2.0) + 0.01 * chance_scale[k], 0.0});
+    chance.push_back({0.0, chance_scale[k], 0.0});
+  }
+  std::vector<const PreparedRun*> runs;
+  for (const PreparedRun& p : prepared) runs.push_back(&p);
+  const std::vector<std::string> warned = eye_confound_warnings(runs, following, {});
+  ASSERT_EQ(warned.size(), 1U);
+  EXPECT_NE(warned[0].find("cutting force scale follows the speed"), std::string::npos) << warned[0];
+  EXPECT_TRUE(eye_confound_warnings(runs, chance, {}).empty());
 }
 
 // The blind zoo's failure this answers: a covariate acting as a step, the held-out run the
