@@ -4,23 +4,13 @@
 #include <cstdio>
 #include <optional>
 
+#include "correlation.hpp"
+
 namespace rig::model {
 namespace {
 
 constexpr double kStrongCorrelation = 0.9;  // by chance over 9 runs: p ~ 0.001 per pair
 constexpr std::size_t kMinRuns = 6;
-
-std::optional<double> correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const auto n = static_cast<double>(a.size());
-  double ma = 0.0, mb = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) ma += a[i] / n, mb += b[i] / n;
-  double sab = 0.0, saa = 0.0, sbb = 0.0;
-  for (std::size_t i = 0; i < a.size(); ++i) {
-    sab += (a[i] - ma) * (b[i] - mb), saa += (a[i] - ma) * (a[i] - ma), sbb += (b[i] - mb) * (b[i] - mb);
-  }
-  if (saa <= 1e-24 || sbb <= 1e-24) return std::nullopt;  // a constant: nothing to follow
-  return sab / std::sqrt(saa * sbb);
-}
 
 struct RunVariable {
   std::string name;
@@ -60,13 +50,13 @@ std::vector<std::string> eye_confound_warnings(const std::vector<const PreparedR
     std::vector<double> per_eye;
     for (const EyeParams& e : eyes) per_eye.push_back(e.*member);
     for (const RunVariable& v : run_variables(runs, covariate_keys)) {
-      const std::optional<double> r = correlation(per_eye, v.values);
-      if (!r || std::abs(*r) < kStrongCorrelation) continue;
+      const double r = correlation(per_eye, v.values);  // 0 when either is constant
+      if (std::abs(r) < kStrongCorrelation) continue;
       char text[320];
       std::snprintf(text, sizeof text,
                     "the eyes' %s follows %s (r = %+.2f over %zu runs): what the floor counts as eye variation may be an effect "
                     "of %s, and the floor too high to name it",
-                    label, v.name.c_str(), *r, runs.size(), v.name.c_str());
+                    label, v.name.c_str(), r, runs.size(), v.name.c_str());
       warnings.emplace_back(text);
     }
   }

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <map>
 
+#include "correlation.hpp"
+
 namespace rig::model {
 namespace {
 
@@ -32,17 +34,6 @@ std::string depth_band(double x_mm) {
 std::string hold_band(double hold_s) {
   if (hold_s < 0.5) return "0-0.5";
   return hold_s < 2.0 ? "0.5-2" : "2+";
-}
-
-double correlation(const std::vector<double>& a, const std::vector<double>& b) {
-  const double n = static_cast<double>(a.size());
-  double ma = 0.0, mb = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) ma += a[k] / n, mb += b[k] / n;
-  double sab = 0.0, saa = 0.0, sbb = 0.0;
-  for (std::size_t k = 0; k < a.size(); ++k) {
-    sab += (a[k] - ma) * (b[k] - mb), saa += (a[k] - ma) * (a[k] - ma), sbb += (b[k] - mb) * (b[k] - mb);
-  }
-  return saa > 0.0 && sbb > 0.0 ? sab / std::sqrt(saa * sbb) : 0.0;
 }
 
 void best_covariate(const std::vector<const PreparedRun*>& runs, const std::vector<std::vector<double>>& residuals,
