@@ -117,7 +117,8 @@ nlohmann::json summarize(const CliContext& c, const ApiClient& api, std::int64_t
   }
   const model::CutSummary s = model::summarize_cut(run, force_model.get());
   nlohmann::json j = {{"run_id", run_id}, {"outcome", archive.find_run(run_id)->outcome}, {"samples", s.samples},
-                      {"commanded_velocity_mm_s", s.commanded_velocity_mm_s}, {"velocity_mean_mm_s", s.velocity_mean_mm_s},
+                      {"commanded_velocity_mm_s", s.commanded_velocity_mm_s}, {"velocity_mm_s", s.velocity_mm_s},
+                      {"longest_gap_ms", s.longest_gap_ms},
                       {"velocity_error_pct", s.velocity_error_pct}, {"peak_force_N", s.peak_force_N},
                       {"x_at_peak_mm", s.x_at_peak_mm}, {"max_depth_mm", s.max_depth_mm},
                       {"loop_jitter_p99_us", status["loop"]["jitter_p99_us"]}, {"loop_overruns", status["loop"]["overruns"]},
@@ -134,8 +135,9 @@ nlohmann::json summarize(const CliContext& c, const ApiClient& api, std::int64_t
 void print_summary(const nlohmann::json& j) {
   print_pairs({{"run", std::to_string(j["run_id"].get<std::int64_t>()) + " (" + j["outcome"].get<std::string>() + ")"},
                {"samples", std::to_string(j["samples"].get<std::size_t>())},
-               {"velocity", fixed(j["velocity_mean_mm_s"], 4) + " mm/s (commanded " + fixed(j["commanded_velocity_mm_s"], 2) +
-                                ", error " + fixed(j["velocity_error_pct"], 3) + " %)"},
+               {"velocity", fixed(j["velocity_mm_s"], 4) + " mm/s (commanded " + fixed(j["commanded_velocity_mm_s"], 2) +
+                                ", error " + fixed(j["velocity_error_pct"], 3) + " %; longest gap between samples " +
+                                fixed(j["longest_gap_ms"], 0) + " ms)"},
                {"puncture peak", fixed(j["peak_force_N"], 4) + " N at x = " + fixed(j["x_at_peak_mm"], 3) + " mm"},
                {"model RMSE", j.contains("model_rmse_N") ? fixed(j["model_rmse_N"], 4) + " N vs " + j["model_file"].get<std::string>() : "-"},
                {"loop", "jitter p99 " + fixed(j["loop_jitter_p99_us"], 0) + " us, overruns " + std::to_string(j["loop_overruns"].get<std::int64_t>()) +

@@ -25,7 +25,7 @@ TEST(Demo, OnceAsJsonCutsTwoThousandSamplesPerMillimetreAndFindsThePeakWhereTheT
   std::ifstream err_file(dir.file("stderr.txt"));
   ASSERT_EQ(demo.exit_code, 0) << demo.output << std::string((std::istreambuf_iterator<char>(err_file)), std::istreambuf_iterator<char>());
   const auto j = nlohmann::json::parse(demo.output);
-  for (const char* key : {"run_id", "samples", "velocity_mean_mm_s", "velocity_error_pct", "peak_force_N", "x_at_peak_mm"}) {
+  for (const char* key : {"run_id", "samples", "velocity_mm_s", "velocity_error_pct", "longest_gap_ms", "peak_force_N", "x_at_peak_mm"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_GE(j["samples"].get<int>(), 5000);
