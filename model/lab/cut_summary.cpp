@@ -13,7 +13,7 @@ namespace {
 // of the insertion (x between 0.5 mm and 0.5 mm short of the deepest point). A stall of the
 // whole machine (rigd and the simulated DAQ off the CPU together: the simulated world stops,
 // rigd's clock does not) is a gap in the record, not a slow cut; a least-squares slope over
-// the whole insertion counted an 80 ms stall as 1.25 % slow. Null if no span fits.
+// the whole insertion counted an 80 ms stall as 1.25 % slow. std::nullopt if no span fits.
 constexpr double kSpan_s = 0.2;
 
 std::optional<double> median_held_velocity(const RunData& run, std::size_t deepest, double max_depth_mm) {
