@@ -316,6 +316,8 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
   d.noise_floor_N = d.floor.total_N;
   if (!base.full.converged) d.warnings.push_back("the baseline fit did not converge; its figures are those where it stopped");
   for (std::string& w : eye_confound_warnings(runs, base.full.eyes, covariate_keys(catalogue))) d.warnings.push_back(std::move(w));
+  const FloorReading reading{base.rmse_N, base.own_eye_rmse_N, d.floor.total_N, d.floor.measurement_N, d.floor.eye_variation_N};
+  if (auto w = inflated_floor_warning(reading)) d.warnings.push_back(std::move(*w));
   std::vector<std::string> names;
   const std::set<std::string> present(d.base_effects.begin(), d.base_effects.end());
   for (const std::string& name : catalogue.candidates()) {

@@ -11,6 +11,8 @@ namespace {
 
 constexpr double kStrongCorrelation = 0.9;  // by chance over 9 runs: p ~ 0.001 per pair
 constexpr std::size_t kMinRuns = 6;
+constexpr double kOwnEyeFarAbove = 5.0;     // x the measurement noise
+constexpr double kPopulationNearFloor = 1.6;  // x the floor
 
 struct RunVariable {
   std::string name;
@@ -61,6 +63,22 @@ std::vector<std::string> eye_confound_warnings(const std::vector<const PreparedR
     }
   }
   return warnings;
+}
+
+std::optional<std::string> inflated_floor_warning(const FloorReading& b) {
+  const bool structure_within_eyes = b.own_eye_cv_N >= kOwnEyeFarAbove * b.measurement_N;
+  const bool population_near_floor = b.population_cv_N <= kPopulationNearFloor * b.floor_N;
+  const bool floor_is_eyes = b.eye_variation_N > b.measurement_N;
+  if (b.measurement_N <= 0.0 || b.floor_N <= 0.0 || !structure_within_eyes || !population_near_floor || !floor_is_eyes) {
+    return std::nullopt;
+  }
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "within eyes the CV error is %.1fx the measurement noise, yet across eyes only %.2fx its floor, of which eye "
+                "variation is %.1f mN and noise %.1f mN: the eyes' own scales and puncture depths may have absorbed an effect, so "
+                "read the floor as an upper bound and the candidates' gains across eyes as understated",
+                b.own_eye_cv_N / b.measurement_N, b.population_cv_N / b.floor_N, 1e3 * b.eye_variation_N, 1e3 * b.measurement_N);
+  return std::string(text);
 }
 
 }  // namespace rig::model

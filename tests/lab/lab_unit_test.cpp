@@ -288,6 +288,23 @@ TEST(EyeConfounds, EyeVariationThatFollowsTheSpeedIsNamedAndChanceVariationIsNot
   EXPECT_TRUE(eye_confound_warnings(runs, chance, {}).empty());
 }
 
+// Zoo draw 180047 (an exponentially stiffening mount, 6.3x the true floor), as `diagnose` reads
+// it: within eyes 16.7x the noise, across eyes 1.02x a floor of 43.3 mN, 43.2 of it eye
+// variation. Effect-free draws of the tuning seeds stay under 2.2x within eyes.
+TEST(EyeConfounds, AFloorMadeOfEyeVariationWhileStructureStandsWithinEyesIsCalledAnUpperBound) {
+  const FloorReading absorbed{0.0440, 16.7 * 0.0015, 0.0433, 0.0015, 0.0432};
+  const std::optional<std::string> warned = inflated_floor_warning(absorbed);
+  ASSERT_TRUE(warned.has_value());
+  EXPECT_NE(warned->find("16.7x the measurement noise"), std::string::npos) << *warned;
+  EXPECT_NE(warned->find("upper bound"), std::string::npos) << *warned;
+  FloorReading clean = absorbed;
+  clean.own_eye_cv_N = 2.2 * clean.measurement_N;
+  EXPECT_FALSE(inflated_floor_warning(clean).has_value());
+  FloorReading far_above = absorbed;
+  far_above.population_cv_N = 4.0 * far_above.floor_N;  // an effect the population channel sees
+  EXPECT_FALSE(inflated_floor_warning(far_above).has_value());
+}
+
 // The blind zoo's failure this answers: a covariate acting as a step, the held-out run the
 // only one far past the others, was extrapolated as a slope to 5x its force (70034, 2026-11-28).
 TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFileKeepsThatRange) {
