@@ -2,7 +2,8 @@
 // Eye variation that follows a run variable is not eye variation. Each eye is cut at one speed
 // and IOP with one value of every covariate, so a puncture that moves with post_mortem_h, or a
 // cut that scales with speed, fits as "eyes differ": the floor then holds the effect (zoo
-// draws 160009, 170031, 170046: a lab floor 3-5x the true one). This names the suspect.
+// draws 160009, 170031, 170046: a lab floor 3-5x the true one). This names the suspect, and
+// says when the floor looks inflated with no run variable to blame (inflated_floor_warning).
 #include <optional>
 #include <string>
 #include <vector>
