@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 #include <vector>
+
+#include "phases.hpp"
 
 namespace rig::model {
 
@@ -15,21 +18,22 @@ namespace {
 // rigd's clock does not) is a gap in the record, not a slow cut; a least-squares slope over
 // the whole insertion counted an 80 ms stall as 1.25 % slow. std::nullopt if no span fits.
 constexpr double kSpan_s = 0.2;
+constexpr double kEdge_mm = 0.5;  // the start and the end of the insertion are left out
+
+bool steady(double x_mm, double max_depth_mm) { return x_mm > kEdge_mm && x_mm < max_depth_mm - kEdge_mm; }
 
 std::optional<double> median_held_velocity(const RunData& run, std::size_t deepest, double max_depth_mm) {
   std::vector<double> slopes;
   std::size_t j = 0;
   for (std::size_t i = 0; i <= deepest; ++i) {
-    if (run.x_mm[i] <= 0.5 || run.x_mm[i] >= max_depth_mm - 0.5) continue;
+    if (!steady(run.x_mm[i], max_depth_mm)) continue;
     j = std::max(j, i + 1);
     while (j <= deepest && run.t_s[j] < run.t_s[i] + kSpan_s) ++j;
-    if (j > deepest || run.x_mm[j] >= max_depth_mm - 0.5) continue;
+    if (j > deepest || run.x_mm[j] >= max_depth_mm - kEdge_mm) continue;
     slopes.push_back((run.x_mm[j] - run.x_mm[i]) / (run.t_s[j] - run.t_s[i]));
   }
   if (slopes.empty()) return std::nullopt;
-  const auto middle = slopes.begin() + static_cast<std::ptrdiff_t>(slopes.size() / 2);
-  std::nth_element(slopes.begin(), middle, slopes.end());
-  return *middle;
+  return median(std::move(slopes));
 }
 
 }  // namespace
@@ -46,7 +50,7 @@ CutSummary summarize_cut(const RunData& run, const ForceModel* model) {
   double sq = 0, nq = 0;
   for (std::size_t i = 0; i <= static_cast<std::size_t>(deepest); ++i) {
     const double x = run.x_mm[i];
-    if (i > 0 && x > 0.5 && x < out.max_depth_mm - 0.5) {
+    if (i > 0 && steady(x, out.max_depth_mm)) {
       out.longest_gap_ms = std::max(out.longest_gap_ms, 1e3 * (run.t_s[i] - run.t_s[i - 1]));
     }
     if (x < 0.0) continue;

@@ -48,10 +48,11 @@ std::vector<std::string> eye_confound_warnings(const std::vector<const PreparedR
   if (runs.size() < kMinRuns || eyes.size() != runs.size()) return warnings;
   const std::pair<const char*, double EyeParams::*> parameters[] = {
       {"puncture depth", &EyeParams::x_pi_mm}, {"pre-cut force scale", &EyeParams::precut_scale}, {"cutting force scale", &EyeParams::cut_scale}};
+  const std::vector<RunVariable> variables = run_variables(runs, covariate_keys);
   for (const auto& [label, member] : parameters) {
     std::vector<double> per_eye;
     for (const EyeParams& e : eyes) per_eye.push_back(e.*member);
-    for (const RunVariable& v : run_variables(runs, covariate_keys)) {
+    for (const RunVariable& v : variables) {
       const double r = correlation(per_eye, v.values);  // 0 when either is constant
       if (std::abs(r) < kStrongCorrelation) continue;
       char text[320];
