@@ -146,7 +146,7 @@ void zoo_law(Recipe& r, sim::RandomSource& rng, int runs) {
     r.form = words + " of " + key + ", " + window_name(window);
     r.law = [=](const sim::RunSpec& spec, double size) {
       const double z = std::clamp((covariate_of(spec, key) - centre) / half, -1.5, 1.5);
-      return std::make_shared<RunFactorLaw>(std::max(-0.9, 0.1 * size * link(z)), window);
+      return std::make_shared<RunFactorLaw>(std::max(kMostWeakening, 0.1 * size * link(z)), window);
     };
   }
   r.expected = {r.family};

@@ -43,7 +43,10 @@ class DepthBumpsLaw : public sim::ExtraForce {
   double amplitude_N_;
 };
 
-// Tissue force scaled by (1 + amplitude * law(v)) inside the window.
+// The most a zoo law weakens the tissue: its force times (1 - 0.9), never turned over.
+inline constexpr double kMostWeakening = -0.9;
+
+// Tissue force scaled by (1 + amplitude * law(v)) inside the window, at least by 0.1.
 class VelocityScaledLaw : public sim::ExtraForce {
  public:
   VelocityScaledLaw(VelocityLaw law, Window window, double amplitude) : law_(law), window_(window), amplitude_(amplitude) {}

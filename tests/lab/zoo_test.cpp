@@ -336,6 +336,22 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
   }
 }
 
+// Seed 180002 slows the cut after the puncture by a random law in velocity at 8x the floor.
+// Until 2026-11-28 that law could turn the tissue's force over: its slow runs cut at -0.05 N
+// and dipped to -0.1 N, a tissue pulling the blade in, which no rate law of the lab (nor of
+// physics) can follow. A law now weakens the tissue at most to a tenth of its force.
+TEST(BlindZoo, ARandomLawInVelocityWeakensTheTissueButNeverTurnsItsForceOver) {
+  const ZooDraw draw = ZooGenerator().draw(180002);
+  ASSERT_EQ(draw.form, "random law in velocity, after the puncture, inserting");
+  for (const auto& run : draw.runs) {
+    double lowest_inside_N = 0.0;  // while the tip is inside the eye, past 1 mm
+    for (std::size_t k = 0; k < run.size(); ++k) {
+      if (run.x_mm[k] > 1.0) lowest_inside_N = std::min(lowest_inside_N, run.force_N[k]);
+    }
+    EXPECT_GT(lowest_inside_N, -0.015) << run.source << ": the measurement noise is 1.5 mN";
+  }
+}
+
 // The share of a run's tearing that a sawtooth of the simulator's own law leaves unexplained
 // [1]: the force on new depth inside the cut (0.3 mm past the detected puncture to 0.2 mm
 // before the cut's end), less a quadratic in depth, fitted by 8 harmonics of depth over the
