@@ -136,16 +136,31 @@ double TissueTruth::force_at(double tip_mm, double iop_mmHg) const {
   return scaled_by_effects(force, tip_mm);
 }
 
+// The tip where the mount's lag matches the force it carries: tip = carriage - lag(F(tip)).
+// Solved by bisection: behind the cut front the force falls within release_width_mm, so a
+// stiff tissue on a soft mount is a loop gain of 10-30, and the damped fixed-point iteration
+// used until 2026-11-28 oscillated; its last iterate could put the tip (and the front) ahead
+// of the blade's balance, and the tissue then carried no force for millimetres after a stop
+// (draws 180047 and 180055: 0 N from 6 to 8 mm in 4-5 of 9 runs).
 double TissueTruth::solve_tip(const TissueInput& input) const {
   const EffectSlot& compliance = (*effects_)[EffectKind::kRigCompliance];
-  if (!compliance.on || compliance.size <= 0.0) return input.carriage_depth_mm;
-  double force = force_N_;
-  double tip = input.carriage_depth_mm;
-  for (int i = 0; i < 6; ++i) {  // fixed point: tip = carriage - lag(F(tip))
-    tip = input.carriage_depth_mm - forms::compliance_lag_mm(compliance, force);
-    force = 0.5 * force + 0.5 * (force_at(tip, input.iop_mmHg) + friction_force(tip, input.velocity_mm_s));
+  const double carriage = input.carriage_depth_mm;
+  if (!compliance.on || compliance.size <= 0.0 || carriage <= 0.0) return carriage;
+  // gap(tip) = carriage - lag(F(tip)) - tip: negative at the carriage, positive at the
+  // surface (no force, no lag), so a balance lies between.
+  auto gap = [&](double tip) {
+    const double force = force_at(tip, input.iop_mmHg) + friction_force(tip, input.velocity_mm_s);
+    return carriage - forms::compliance_lag_mm(compliance, force) - tip;
+  };
+  if (gap(carriage) >= 0.0) return carriage;
+  double ahead = carriage;
+  double behind = carriage - forms::compliance_lag_mm(compliance, force_N_);  // near last step's balance
+  if (behind >= ahead || gap(behind) < 0.0) behind = 0.0;
+  for (int i = 0; i < 40 && ahead - behind > 1e-7; ++i) {  // to 0.1 um
+    const double mid = 0.5 * (ahead + behind);
+    (gap(mid) < 0.0 ? ahead : behind) = mid;
   }
-  return tip;
+  return behind;
 }
 
 void TissueTruth::track_relaxation(bool held, double advanced_mm, double dt_s) {
