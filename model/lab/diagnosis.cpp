@@ -333,6 +333,11 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
     return a.cv_rmse_N < b.cv_rmse_N;
   });
   decide(d, evaluated, locate_excess(runs, base.residuals, d.noise_floor_N, covariate_keys(catalogue)));
+  const bool any_significant =
+      std::any_of(d.candidates.begin(), d.candidates.end(), [](const CandidateResult& c) { return c.applicable && c.significant; });
+  if (d.verdict == "unexplained" && !any_significant) {
+    if (auto w = uncertain_floor_warning(reading, runs.size(), kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
+  }
   return d;
 }
 

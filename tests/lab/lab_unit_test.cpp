@@ -305,6 +305,32 @@ TEST(EyeConfounds, AFloorMadeOfEyeVariationWhileStructureStandsWithinEyesIsCalle
   EXPECT_FALSE(inflated_floor_warning(far_above).has_value());
 }
 
+// Zoo draw 190038 (no effect at all) as `diagnose` read it: across eyes 1.54x a floor of 6.9 mN
+// (eye variation 6.7 mN from 9 eyes; the true floor was 11.8 mN), within eyes 2.05x the noise.
+// The eye part is known to about +-25 % from 9 eyes, so up to 8.6 mN is plausible: not 1.5x that.
+TEST(EyeConfounds, AnExcessWithinTheFloorsOwnUncertaintyIsCalledThatAndMoreEyesNarrowIt) {
+  const double floor_N = 0.0069, noise_N = 0.0015, eyes_N = std::sqrt(floor_N * floor_N - noise_N * noise_N);
+  const FloorReading chance{1.54 * floor_N, 2.05 * noise_N, floor_N, noise_N, eyes_N};
+  EXPECT_NEAR(plausible_floor(chance, 9), std::sqrt(noise_N * noise_N + 1.25 * 1.25 * eyes_N * eyes_N), 1e-12);
+  const std::optional<std::string> warned = uncertain_floor_warning(chance, 9, 1.5, 2.5);
+  ASSERT_TRUE(warned.has_value());
+  EXPECT_NE(warned->find("1.54x a floor of 6.9 mN"), std::string::npos) << *warned;
+  EXPECT_NE(warned->find("from 9 eyes"), std::string::npos) << *warned;
+  FloorReading clearer = chance;  // 1.7x stands within 9 eyes' uncertainty, not within 100 eyes'
+  clearer.population_cv_N = 1.7 * floor_N;
+  EXPECT_TRUE(uncertain_floor_warning(clearer, 9, 1.5, 2.5).has_value());
+  EXPECT_FALSE(uncertain_floor_warning(clearer, 100, 1.5, 2.5).has_value());
+  FloorReading far_above = chance;  // 2x: above any floor these eyes make plausible
+  far_above.population_cv_N = 2.0 * floor_N;
+  EXPECT_FALSE(uncertain_floor_warning(far_above, 9, 1.5, 2.5).has_value());
+  FloorReading near = chance;  // under 1.5x: nothing was claimed
+  near.population_cv_N = 1.4 * floor_N;
+  EXPECT_FALSE(uncertain_floor_warning(near, 9, 1.5, 2.5).has_value());
+  FloorReading within = chance;  // structure within eyes stands on its own channel
+  within.own_eye_cv_N = 3.0 * noise_N;
+  EXPECT_FALSE(uncertain_floor_warning(within, 9, 1.5, 2.5).has_value());
+}
+
 // The blind zoo's failure this answers: a covariate acting as a step, the held-out run the
 // only one far past the others, was extrapolated as a slope to 5x its force (70034, 2026-11-28).
 TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFileKeepsThatRange) {
