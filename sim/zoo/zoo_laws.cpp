@@ -80,7 +80,7 @@ double VelocityScaledLaw::force_N(const sim::ForceContext& c) const {
   if (!in_window(window_, c)) return 0.0;
   // A viscous-like law: it vanishes at rest (law(2 mm/s) = 0 stands in for 'no change').
   // A law can weaken the tissue to a tenth, never turn its force over: a tissue that pulls
-  // the blade in is no rate law (large draws of slow runs did, down to -0.1 N while cutting).
+  // the blade in is no rate law (large draws did, down to -0.2 N on the start-up after a stop).
   const double change = amplitude_ * law_(std::abs(c.velocity_mm_s) > 0.05 ? std::abs(c.velocity_mm_s) : 2.0);
   return std::max(kMostWeakening, change) * c.tissue_force_N;
 }

@@ -338,7 +338,7 @@ TEST(SimulatedRelaxation, RelaxesAStopByTheSameFractionWhateverTheCuttingSpeed) 
 
 // Seed 180002 slows the cut after the puncture by a random law in velocity at 8x the floor.
 // Until 2026-11-28 that law could turn the tissue's force over: its slow runs cut at -0.05 N
-// and dipped to -0.1 N, a tissue pulling the blade in, which no rate law of the lab (nor of
+// and dipped to -0.2 N, a tissue pulling the blade in, which no rate law of the lab (nor of
 // physics) can follow. A law now weakens the tissue at most to a tenth of its force.
 TEST(BlindZoo, ARandomLawInVelocityWeakensTheTissueButNeverTurnsItsForceOver) {
   const ZooDraw draw = ZooGenerator().draw(180002);
