@@ -225,7 +225,7 @@ void name_effect(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Ca
 }
 
 // none | EFFECT | unexplained, from the ranked candidates (see diagnosis.hpp).
-void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const ResidualStructure& baseline_structure) {
+void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const ResidualStructure& baseline_structure, std::size_t eyes) {
   const CandidateResult* significant = nullptr;
   for (const CandidateResult& c : d.candidates) {
     if (c.applicable && c.significant) {
@@ -248,6 +248,9 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
   if (near_floor) return;  // "none": nothing stands above the floor
   d.verdict = "unexplained";
   d.unexplained_where = baseline_structure;
+  const FloorReading baseline{d.baseline_cv_rmse_N, d.baseline_own_eye_cv_rmse_N, d.noise_floor_N, d.floor.measurement_N,
+                              d.floor.eye_variation_N};
+  if (auto w = uncertain_floor_warning(baseline, eyes, kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
   if (!d.candidates.empty() && d.candidates.front().applicable && d.candidates.front().gain_pct > 0.0) {
     d.partial_candidate = d.candidates.front().effect;
   }
@@ -332,12 +335,7 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
     if (a.significant) return a.rank_gain_pct > b.rank_gain_pct;
     return a.cv_rmse_N < b.cv_rmse_N;
   });
-  decide(d, evaluated, locate_excess(runs, base.residuals, d.noise_floor_N, covariate_keys(catalogue)));
-  const bool any_significant =
-      std::any_of(d.candidates.begin(), d.candidates.end(), [](const CandidateResult& c) { return c.applicable && c.significant; });
-  if (d.verdict == "unexplained" && !any_significant) {
-    if (auto w = uncertain_floor_warning(reading, runs.size(), kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
-  }
+  decide(d, evaluated, locate_excess(runs, base.residuals, d.noise_floor_N, covariate_keys(catalogue)), runs.size());
   return d;
 }
 

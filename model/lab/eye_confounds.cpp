@@ -82,9 +82,14 @@ std::optional<std::string> inflated_floor_warning(const FloorReading& b) {
   return std::string(text);
 }
 
+namespace {
+// The relative standard error of an SD estimated from one value per eye (chi-square).
+double eye_part_uncertainty(std::size_t eyes) { return 1.0 / std::sqrt(2.0 * static_cast<double>(eyes - 1)); }
+}  // namespace
+
 double plausible_floor(const FloorReading& b, std::size_t eyes) {
   if (eyes < 2) return b.floor_N;
-  const double up = 1.0 + 1.0 / std::sqrt(2.0 * static_cast<double>(eyes - 1));
+  const double up = 1.0 + eye_part_uncertainty(eyes);
   const double eye_N = b.eye_variation_N * up;
   return std::sqrt(b.measurement_N * b.measurement_N + eye_N * eye_N);
 }
@@ -95,13 +100,13 @@ std::optional<std::string> uncertain_floor_warning(const FloorReading& b, std::s
   const bool above_estimate = b.population_cv_N > well_above * b.floor_N;
   const bool within_plausible = b.population_cv_N <= well_above * highest_N;
   const bool quiet_within_eyes = b.own_eye_cv_N < own_eye_well_above * b.measurement_N;
-  if (b.floor_N <= 0.0 || !above_estimate || !within_plausible || !quiet_within_eyes) return std::nullopt;
+  if (eyes < 2 || b.floor_N <= 0.0 || !above_estimate || !within_plausible || !quiet_within_eyes) return std::nullopt;
   char text[400];
   std::snprintf(text, sizeof text,
                 "across eyes the CV error is %.2fx a floor of %.1f mN whose eye part comes from %zu eyes and is known to about "
                 "+-%.0f %%: a floor of up to %.1f mN is plausible, and %.2fx that is not well above it; with more eyes, read "
                 "`unexplained` as structure only if it stays",
-                b.population_cv_N / b.floor_N, 1e3 * b.floor_N, eyes, 100.0 / std::sqrt(2.0 * static_cast<double>(eyes - 1)),
+                b.population_cv_N / b.floor_N, 1e3 * b.floor_N, eyes, 100.0 * eye_part_uncertainty(eyes),
                 1e3 * highest_N, b.population_cv_N / highest_N);
   return std::string(text);
 }
