@@ -33,6 +33,19 @@ std::size_t deepest_index(const RunData& run) {
   return static_cast<std::size_t>(it - run.x_mm.begin());
 }
 
+// First sample of the stay at `held` [mm] that ends at `deepest`: walking back while the
+// position is within the hold's own jitter of it (3 robust SDs of `window`, at least 5 um:
+// a pot's noise; a blade still arriving at 0.5 mm/s covers 5 um in 10 ms).
+std::size_t arrival_index(const RunData& run, std::size_t deepest, double held, const std::vector<double>& window) {
+  std::vector<double> deviation;
+  deviation.reserve(window.size());
+  for (const double x : window) deviation.push_back(std::abs(x - held));
+  const double tolerance_mm = std::max(0.005, 3.0 * 1.4826 * median(deviation));
+  std::size_t begin = deepest;
+  while (begin > 0 && run.x_mm[begin - 1] >= held - tolerance_mm) --begin;
+  return begin;
+}
+
 void find_hold(const RunData& run, Segmentation& s) {
   // A hold starts at the deepest point and lasts until the blade has clearly withdrawn
   // (0.2 mm: far beyond servo settling and overshoot); a turnaround is no hold (< 0.5 s).
@@ -46,8 +59,12 @@ void find_hold(const RunData& run, Segmentation& s) {
   const double held = median(window);
   std::size_t leave = end;
   while (leave > s.insertion_end + 1 && run.x_mm[leave - 1] < held - 0.02) --leave;
-  if (run.t_s[leave - 1] - run.t_s[s.insertion_end] >= 0.5) {
-    s.hold_begin = s.insertion_end;
+  // The hold begins where the blade arrived at the held position, not at the deepest sample:
+  // a position's jitter in the hold (a digitized curve's 0.04 mm) can put that seconds late
+  // (the needle data: 1.2 s into the hold, and the relaxation's fast part went unseen).
+  const std::size_t arrived = arrival_index(run, s.insertion_end, held, window);
+  if (run.t_s[leave - 1] - run.t_s[arrived] >= 0.5) {
+    s.hold_begin = arrived;
     s.hold_end = leave;
   } else {
     s.hold_begin = s.hold_end = s.insertion_end + 1;  // no hold: retraction starts after the deepest point

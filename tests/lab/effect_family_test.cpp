@@ -156,20 +156,6 @@ TEST(EffectFamilies, ASavedFormReloadsAsTheSameFormFromItsParameterNames) {
   EXPECT_THROW(catalogue.make_form("shaft_friction", "sticky"), std::invalid_argument);
 }
 
-TEST(StressRelaxation, OnTheNeedleDataTheFitLeavesItsStartAndNamesItsForm) {
-  const RunData needle = read_run_csv(needle_csv());
-  DiagnoseOptions only;
-  only.only = {"stress_relaxation"};
-  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle}, only);
-  ASSERT_EQ(d.candidates.size(), 1U);
-  const std::string& evidence = d.candidates.front().evidence;
-  std::printf("needle relaxation: %s\n", evidence.c_str());
-  EXPECT_EQ(evidence.find("decays by 0 %"), std::string::npos) << evidence;
-  EXPECT_EQ(evidence.find("1.00 s"), std::string::npos) << evidence;
-  EXPECT_NE(evidence.find("relaxation"), std::string::npos) << evidence;
-  EXPECT_EQ(evidence.find("did not leave its start"), std::string::npos) << evidence;
-}
-
 TEST(EffectFamilies, OnTheNeedleDataEveryApplicableCandidateNamesTheFormItChose) {
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {read_run_csv(needle_csv())});
   std::size_t applicable = 0;

@@ -59,6 +59,24 @@ TEST(Phases, FindThePunctureHoldAndRetractionOfASimulatedCut) {
   EXPECT_NEAR(s.noise_sigma_N, 0.0015, 0.0003);
 }
 
+// A digitized curve's position jitters in the hold (the needle data: 0.04 mm), and its
+// largest value can come late: the hold still begins where the blade arrived.
+TEST(Phases, AHoldBeginsWhereTheBladeArrivedNotAtItsJitterSLargestPosition) {
+  RunData run = one_run({}, 2.0, 12.0);
+  const Segmentation clean = detect_phases(run);
+  ASSERT_GT(clean.hold_end, clean.hold_begin);
+  const double arrived_s = run.t_s[clean.hold_begin];
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.04, 0.0);
+  for (std::size_t i = clean.hold_begin; i < clean.hold_end; ++i) {
+    run.x_mm[i] += run.t_s[i] - arrived_s > 1.2 && run.t_s[i] - arrived_s < 1.21 ? 0.03 : jitter(rng);
+  }
+  const Segmentation s = detect_phases(run);
+  ASSERT_GT(s.hold_end, s.hold_begin);
+  EXPECT_NEAR(run.t_s[s.hold_begin], arrived_s, 0.05);
+  EXPECT_NEAR(run.t_s[s.hold_end - 1] - run.t_s[s.hold_begin], 2.0, 0.1);
+}
+
 TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
   RunData run = one_run({"sensor_drift=2"});
   std::mt19937 rng(5);

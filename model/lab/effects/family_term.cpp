@@ -23,7 +23,10 @@ std::string FamilyTerm::honesty(const EvidenceInput& in) const {
       return k < s.size() && std::abs(s[k] - value) <= 1e-9 * span;
     });
     const bool at_bound = std::min(value - specs[k].lower, specs[k].upper - value) <= 1e-4 * span;
-    if (at_start) {
+    const std::string uninformed = at_start ? uninformed_because(k, in) : std::string();
+    if (!uninformed.empty()) {
+      text += "; " + specs[k].name + " has nothing to act on in these runs (" + uninformed + "): left at its start value";
+    } else if (at_start) {
       text += "; " + specs[k].name + " did not leave its start value (the fit did not converge: not identified by these runs)";
     } else if (at_bound) {
       text += "; " + specs[k].name + " ended on its bound (the fit did not converge inside the allowed range)";

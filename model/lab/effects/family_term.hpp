@@ -2,7 +2,8 @@
 // A catalogue entry that covers several forms of its physics (an effect family): the form
 // is fixed per instance (the catalogue builds one per form and keeps the best by an
 // information criterion, see form_selection.hpp). The evidence names the form and says so
-// when a parameter never left its start or ended on a bound (a fit that did not converge).
+// when a parameter never left its start or ended on a bound (a fit that did not converge),
+// or when the runs give it nothing to act on (a parameter these runs cannot inform).
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,6 +28,10 @@ class FamilyTerm : public EffectTerm {
  protected:
   // "; <selection note>; tau did not leave its start ..." (empty when all is well).
   std::string honesty(const EvidenceInput& in) const;
+  // Why shared parameter k has no effect on these runs (e.g. "no stop on the way in"), or
+  // empty: such a parameter stays at its start because nothing informs it, not because the
+  // fit failed, and the evidence says that instead.
+  virtual std::string uninformed_because(std::size_t /*k*/, const EvidenceInput& /*in*/) const { return {}; }
   int form_;
 
  private:

@@ -90,6 +90,12 @@ double StressRelaxation::decayed(double t, const double* p) const {
 
 namespace {
 
+bool any_stop_on_the_way_in(const std::vector<const PreparedRun*>& runs) {
+  return std::any_of(runs.begin(), runs.end(), [](const PreparedRun* r) {
+    return std::any_of(r->reload_mm.begin(), r->reload_mm.end(), [](double v) { return v >= 0.0; });
+  });
+}
+
 // The measured force at the start of the run's hold: mean over its first 20 ms, at most 20
 // samples, at least one [N].
 double hold_start_force(const PreparedRun& run) {
@@ -130,6 +136,13 @@ double StressRelaxation::add(const SampleView& s, const double* p, double force_
   return -decayed(s.hold_s, p) * force_N;
 }
 
+// `reload` acts only where the blade moves on after a stop on the way in (the needle data
+// insert, hold once at depth and withdraw: nothing reloads).
+std::string StressRelaxation::uninformed_because(std::size_t k, const EvidenceInput& in) const {
+  if (static_cast<int>(k) != reload_index() || any_stop_on_the_way_in(in.runs)) return {};
+  return "no run stops on the way in";
+}
+
 std::string StressRelaxation::evidence(const EvidenceInput& in) const {
   double longest = 0.0;  // the longest hold [s]
   for (const PreparedRun* r : in.runs) {
@@ -153,9 +166,7 @@ std::string StressRelaxation::evidence(const EvidenceInput& in) const {
   }
   if (model_silent_) text += "the model predicts no force in some holds, so they relax from the force measured when the hold began: ";
   text += format("during holds the force decays by %.0f %% within %.1f s", lost, longest);
-  bool stops = false;
-  for (const PreparedRun* r : in.runs) stops = stops || std::any_of(r->reload_mm.begin(), r->reload_mm.end(), [](double v) { return v >= 0.0; });
-  if (stops) text += format("; after a stop on the way in the tissue reloads over %.2f mm of advance", p[reload_index()]);
+  if (any_stop_on_the_way_in(in.runs)) text += format("; after a stop on the way in the tissue reloads over %.2f mm of advance", p[reload_index()]);
   const double slowest = form_ == kProny ? std::max(p[1], p[3]) : (form_ == kPowerLaw ? 0.0 : p[1]);
   if (longest > 0.0 && slowest > 3.0 * longest) {
     text += format("; the time constant %.3g s is beyond 3x the longest hold: not resolved, read it as a slow, almost linear decline", slowest);

@@ -30,6 +30,7 @@ class StressRelaxation final : public FamilyTerm {
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   double add(const SampleView& s, const double* p, double force_N) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  std::string uninformed_because(std::size_t k, const EvidenceInput& in) const override;
   // Fraction of the force lost after t seconds in the hold.
   double decayed(double t_s, const double* p) const;
 
