@@ -76,7 +76,10 @@ ArchiveEndpoints::ArchiveEndpoints(boost::asio::io_context& io, ApiContext& cont
 ArchiveEndpoints::~ArchiveEndpoints() { pool_.join(); }
 
 archive::Archive& ArchiveEndpoints::archive() {
-  if (!archive_) archive_ = std::make_unique<archive::Archive>(context_->config->archive.path);
+  if (!archive_) {
+    archive_ = std::make_unique<archive::Archive>(context_->config->archive.path);
+    archive_->defer_checkpoints();  // the recorder checkpoints between runs
+  }
   return *archive_;
 }
 

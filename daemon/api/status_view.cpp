@@ -25,6 +25,8 @@ proto::ArchiveCommits archive_commits(const service::RecorderStats& r, int flush
   a.max_late_ms = ms(r.max_late_us);
   a.last_exposure_ms = ms(r.last_exposure_us);
   a.max_exposure_ms = ms(r.max_exposure_us);
+  a.checkpoints = static_cast<std::int64_t>(r.checkpoints.load());
+  a.max_checkpoint_ms = ms(r.max_checkpoint_us);
   return a;
 }
 
@@ -100,6 +102,8 @@ std::string prometheus_metrics(ApiContext& c) {
     gauge("rigd_archive_commit_max_seconds", "the longest commit (write + fsync) since rigd started", ms(r->max_commit_us) / 1000.0);
     gauge("rigd_archive_commit_late_max_seconds", "the latest a commit began after it was due", ms(r->max_late_us) / 1000.0);
     gauge("rigd_archive_exposure_max_seconds", "the most samples a power cut could have taken, in time", ms(r->max_exposure_us) / 1000.0);
+    counter("rigd_archive_checkpoints_total", "copies of the archive's log into its database (between runs)", static_cast<double>(r->checkpoints.load()));
+    gauge("rigd_archive_checkpoint_max_seconds", "the longest such copy", ms(r->max_checkpoint_us) / 1000.0);
   }
   counter("rigd_stream_ring_drops_total", "samples dropped before the stream hub", static_cast<double>(n.stream_drops.load()));
   counter("rigd_stream_messages_dropped_total", "WebSocket messages dropped for slow clients", static_cast<double>(c.counters.ws_messages_dropped.load()));

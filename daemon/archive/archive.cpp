@@ -33,6 +33,8 @@ Archive::Archive(const std::string& path, bool read_only) : db_(path, read_only)
   create_schema();
 }
 
+void Archive::defer_checkpoints() { db_.exec("PRAGMA wal_autocheckpoint=0;"); }
+
 void Archive::create_schema() { SchemaMigrations::bring_up_to_date(db_); }
 
 std::int64_t Archive::create_run(const NewRun& run) {

@@ -81,6 +81,14 @@ class Archive {
   // runs is left alone (import_process.hpp).
   std::vector<std::string> remove_abandoned_imports();
 
+  // For rigd's writers: SQLite would otherwise copy its log into the database inside whichever
+  // commit takes the log past 1000 pages (~4 MB: every ~40 s of samples, and the first commit
+  // after a power cut), a commit of hundreds of ms in the middle of a cut, and a power cut
+  // then takes more than one flush interval. The recorder checkpoints between runs instead.
+  void defer_checkpoints();
+  // Copies the log into the database as far as readers allow: the frames left [pages].
+  int checkpoint() { return db_.checkpoint_log(); }
+
   void begin();
   void commit();
   void rollback() noexcept;  // after a failed write: drop the open transaction, if any

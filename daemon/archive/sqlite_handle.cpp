@@ -1,5 +1,6 @@
 #include "sqlite_handle.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <thread>
@@ -31,6 +32,13 @@ int Database::retry_while_busy(void* /*unused*/, int tries_so_far) noexcept {
   if (tries_so_far >= kMaxTries) return 0;
   std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return 1;
+}
+
+int Database::checkpoint_log() {
+  int log_frames = 0, copied_frames = 0;
+  const int rc = sqlite3_wal_checkpoint_v2(db_.get(), nullptr, SQLITE_CHECKPOINT_PASSIVE, &log_frames, &copied_frames);
+  if (rc != SQLITE_OK && rc != SQLITE_BUSY) fail(db_.get(), "checkpoint of " + path_);
+  return std::max(0, log_frames - copied_frames);
 }
 
 void Database::exec(const std::string& sql) {

@@ -60,6 +60,9 @@ class Database {
   Statement prepare(const std::string& sql) { return Statement(db_.get(), sql); }
   std::int64_t last_insert_id() const { return sqlite3_last_insert_rowid(db_.get()); }
   const std::string& path() const { return path_; }
+  // A PASSIVE checkpoint (copies the write-ahead log into the database as far as readers
+  // allow, never waits for them): the log's frames not yet copied afterwards.
+  int checkpoint_log();
 
  private:
   static int retry_while_busy(void* unused, int tries_so_far) noexcept;

@@ -33,6 +33,9 @@ int export_run(const CliContext& c, const ExportOptions& o) {
 
 int import_runs(const CliContext& c, const std::vector<std::string>& files) {
   archive::Archive archive(c.archive_path);
+  // Not inside a running rigd's cut: rigd's recorder copies the log between runs, and the
+  // last connection to close (this one, without rigd) copies it then.
+  archive.defer_checkpoints();
   for (const std::string& source : archive.remove_abandoned_imports()) {
     std::cerr << "warning: removed a half-imported run of " << source
               << " (its rig import was stopped before the end); import the file again\n";

@@ -14,6 +14,11 @@ namespace rig::service {
 namespace {
 // The recorder drains the loop's rings this often: a sample waits up to this long there.
 constexpr std::chrono::milliseconds kDrainPeriod{2};
+
+// A tally's maximum: only the recorder thread writes it, the API reads it.
+void raise_to(std::atomic<std::int64_t>& max, std::int64_t value) {
+  if (value > max.load(std::memory_order_relaxed)) max.store(value, std::memory_order_relaxed);
+}
 }  // namespace
 
 std::string describe_fault(rt::FaultCode code, double value) {
@@ -49,6 +54,7 @@ Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, 
       archive_(std::make_unique<archive::Archive>(archive_path)),
       flush_interval_ms_(flush_interval_ms),
       cadence_(std::chrono::milliseconds(flush_interval_ms), kDrainPeriod) {
+  archive_->defer_checkpoints();
   const int interrupted = archive_->recover_interrupted();
   if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
   for (const std::string& source : archive_->remove_abandoned_imports()) {
@@ -84,6 +90,7 @@ void Recorder::flush() {
   if (!dirty_) return;
   archive_->commit();
   dirty_ = false;
+  log_to_checkpoint_ = true;
   stats_.commits.fetch_add(1);
   rt::FaultCode failing = rt::FaultCode::kArchiveWriteFailed;  // writes work again
   channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
@@ -110,21 +117,34 @@ void Recorder::commit_when_due(Clock::time_point& next_commit) {
 void Recorder::tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended) {
   using std::chrono::duration_cast;
   using std::chrono::microseconds;
-  auto raise = [](std::atomic<std::int64_t>& max, std::int64_t value) {
-    if (value > max.load(std::memory_order_relaxed)) max.store(value, std::memory_order_relaxed);
-  };
   const std::int64_t took_us = duration_cast<microseconds>(ended - began).count();
   stats_.last_commit_us.store(took_us, std::memory_order_relaxed);
-  raise(stats_.max_commit_us, took_us);
-  raise(stats_.max_late_us, duration_cast<microseconds>(began - due).count());
+  raise_to(stats_.max_commit_us, took_us);
+  raise_to(stats_.max_late_us, duration_cast<microseconds>(began - due).count());
   // Samples drained after the previous commit began became durable only now (a sample waits
   // in the loop's ring up to one drain period, ~2 ms, before that).
   if (previous_commit_began_ != Clock::time_point{}) {
     const std::int64_t exposure_us = duration_cast<microseconds>(ended - previous_commit_began_).count();
     stats_.last_exposure_us.store(exposure_us, std::memory_order_relaxed);
-    raise(stats_.max_exposure_us, exposure_us);
+    raise_to(stats_.max_exposure_us, exposure_us);
   }
   previous_commit_began_ = began;
+}
+
+// Until 2026-11-28 SQLite copied the log into the database inside whichever commit took it
+// past 1000 pages, and a cut's commit could take hundreds of ms (the power-cut test's stalls).
+void Recorder::checkpoint_when_idle() {
+  constexpr auto kQuietFor = std::chrono::seconds(1);     // no sample for this long: between runs
+  constexpr auto kRetryAfter = std::chrono::seconds(1);   // a reader kept part of the log: try again
+  const Clock::time_point now = Clock::now();
+  if (!log_to_checkpoint_ || dirty_ || open_run_ != 0 || armed_run_ != 0) return;
+  if (now - last_sample_ < kQuietFor || now - last_checkpoint_try_ < kRetryAfter) return;
+  last_checkpoint_try_ = now;
+  const int left = archive_->checkpoint();
+  const std::int64_t took_us = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - now).count();
+  stats_.checkpoints.fetch_add(1);
+  raise_to(stats_.max_checkpoint_us, took_us);
+  log_to_checkpoint_ = left > 0;
 }
 
 void Recorder::run() {
@@ -133,6 +153,7 @@ void Recorder::run() {
     try {
       drain();
       commit_when_due(next_commit);
+      checkpoint_when_idle();
     } catch (const std::exception& e) {
       // Disk full or I/O error: the loop faults a moving rig at its next cycle; what was
       // committed stays, the failed transaction (< one flush interval) is lost.
@@ -167,6 +188,7 @@ void Recorder::append_waiting_samples() {
     archive_->append_sample(sample);
     ++count;
   }
+  if (count > 0) last_sample_ = Clock::now();
   stats_.samples_written.fetch_add(count);
 }
 

@@ -45,6 +45,9 @@ class Recorder {
   // Commits once next_commit has come, sets the next one and tallies the commit's timing.
   void commit_when_due(Clock::time_point& next_commit);
   void tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
+  // Copies the archive's log into its database when no run is armed or cutting and no sample
+  // came for a while: never inside a cut's commits (Archive::defer_checkpoints).
+  void checkpoint_when_idle();
 
   rt::LoopChannels* channels_;
   std::unique_ptr<archive::Archive> archive_;
@@ -56,6 +59,9 @@ class Recorder {
   std::int64_t armed_run_ = 0;
   std::int64_t open_run_ = 0;
   bool dirty_ = false;
+  bool log_to_checkpoint_ = true;       // commits since the last checkpoint (or a log left by the last boot)
+  Clock::time_point last_sample_{};     // when the last sample was drained
+  Clock::time_point last_checkpoint_try_{};
   Clock::time_point previous_commit_began_{};  // for the exposure; epoch: none yet
   std::string last_fault_;
   std::mutex frames_mutex_;  // never taken by the RT thread

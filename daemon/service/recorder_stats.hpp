@@ -18,6 +18,8 @@ struct RecorderStats {
   std::atomic<std::int64_t> max_late_us{0};      // the latest a commit began after it was due [us]
   std::atomic<std::int64_t> last_exposure_us{0}; // previous commit's start to the last one's end [us]
   std::atomic<std::int64_t> max_exposure_us{0};  // the longest such span since rigd started [us]
+  std::atomic<std::uint64_t> checkpoints{0};     // the log copied into the database, between runs
+  std::atomic<std::int64_t> max_checkpoint_us{0};  // the longest such copy [us]
 };
 
 }  // namespace rig::service

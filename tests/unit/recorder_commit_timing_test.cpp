@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <random>
 #include <thread>
 
@@ -79,6 +80,55 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
   EXPECT_EQ(stats.commits.load(), commits_before + 1);
   EXPECT_LT(stats.last_exposure_us.load(), 1'000'000) << "the idle spell was counted as exposure [us]";
   recorder.stop();
+}
+
+// SQLite copies its log into the database inside the commit that takes the log past 1000
+// pages (~4 MB) unless told not to: a commit of hundreds of ms in the middle of a cut (the
+// power-cut test's stalls). The recorder copies it only once no sample has come for a second.
+TEST(RecorderCheckpoints, TheLogIsNeverCopiedInsideARunsCommitsButBetweenRuns) {
+  testing::ScratchDir dir("recorder-checkpoints");
+  const std::string path = (dir.path() / "archive.sqlite").string();
+  std::int64_t run_id = 0;
+  {
+    archive::Archive archive(path);
+    archive::NewRun run;
+    run.eye_id = "CHECKPOINTS";
+    run_id = archive.create_run(run);
+    archive.mark_started(run_id);
+  }
+  rt::LoopChannels channels(1U << 14U);
+  Recorder recorder(channels, path, kFlushIntervalMs);
+  recorder.start();
+  std::this_thread::sleep_for(1500ms);  // the log the setup left is copied while idle
+  const std::uint64_t checkpoints_before = recorder.stats().checkpoints.load();
+  const std::uintmax_t database_before = std::filesystem::file_size(path);  // [B]
+  // 250,000 samples make ~8 MB of log, twice the 1000 pages at which SQLite would copy it.
+  std::uint64_t cycle = 0;
+  constexpr std::uint64_t kSamples = 250'000;
+  while (cycle < kSamples) {
+    for (int n = 0; n < 2000; ++n, ++cycle) {  // a burst, then let the recorder drain it
+      rt::Sample s;
+      s.run_id = run_id;
+      s.cycle = cycle;
+      s.t_s = static_cast<double>(cycle) * 1e-3;
+      while (!channels.recorder.try_push(s)) std::this_thread::sleep_for(1ms);
+    }
+    std::this_thread::sleep_for(5ms);
+  }
+  ASSERT_NO_FATAL_FAILURE(until_committed(recorder, cycle));
+  EXPECT_EQ(recorder.stats().checkpoints.load(), checkpoints_before) << "copied the log while samples came";
+  EXPECT_EQ(std::filesystem::file_size(path), database_before) << "the log was copied into the database inside a commit";
+  EXPECT_GT(std::filesystem::file_size(path + "-wal"), 4U << 20U) << "the samples did not take the log past 1000 pages";
+  const auto idle_until = std::chrono::steady_clock::now() + 10s;
+  while (recorder.stats().checkpoints.load() == checkpoints_before && std::chrono::steady_clock::now() < idle_until) {
+    std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_GT(recorder.stats().checkpoints.load(), checkpoints_before) << "no copy once the samples stopped";
+  EXPECT_GT(std::filesystem::file_size(path), database_before) << "the copy between runs reached the database";
+  recorder.stop();
+  archive::Archive reader(path);
+  EXPECT_EQ(reader.checkpoint(), 0) << "frames of the log were left uncopied";
+  EXPECT_EQ(reader.load_run(run_id).size(), cycle) << "every sample is in the archive";
 }
 
 using Clock = CommitCadence::Clock;
