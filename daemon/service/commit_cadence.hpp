@@ -16,7 +16,10 @@ namespace rig::service {
 class CommitCadence {
  public:
   using Clock = std::chrono::steady_clock;
-  static constexpr std::size_t kRecent = 8;  // commits remembered for the margin
+  // Commits remembered for the margin (~1.3 s at 50 ms): with 8 (~0.35 s) a lateness spike
+  // after a quiet spell went past the margin, and exposures of 53-58 ms were common in the
+  // power-cut VM (2026-11-28: a cut lost 46-51 ms against 50 + 1).
+  static constexpr std::size_t kRecent = 32;
 
   CommitCadence(Clock::duration flush_interval, Clock::duration drain_period)
       : interval_(flush_interval), drain_period_(drain_period) {}
