@@ -121,9 +121,12 @@ TEST(Metrics, ArePrometheusTextWithTheJitterHistogramAndDropCounters) {
   EXPECT_EQ(metric(text, "rigd_recorder_drops_total"), 0);
   EXPECT_GE(metric(text, "rigd_archive_commits_total"), 0);
   EXPECT_GE(metric(text, "rigd_archive_exposure_max_seconds"), 0);
+  EXPECT_GE(metric(text, "rigd_archive_checkpoints_total"), 0);
+  EXPECT_GE(metric(text, "rigd_archive_checkpoint_max_seconds"), 0);
   const auto status = nlohmann::json::parse(rig.api().get("/api/status").body);
   ASSERT_TRUE(status.contains("archive_commits")) << status.dump();
   EXPECT_EQ(status["archive_commits"]["flush_interval_ms"], 50) << "config/rigd.sim.toml's archive.flush_interval_ms";
+  EXPECT_TRUE(status["archive_commits"].contains("checkpoints")) << status.dump();
   EXPECT_GE(metric(text, "rigd_stream_messages_dropped_total"), 0);
   EXPECT_NE(text.find("rigd_state{state=\"Idle\"} 1"), std::string::npos);
 }
