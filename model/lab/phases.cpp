@@ -47,8 +47,9 @@ std::size_t arrival_index(const RunData& run, std::size_t deepest, double held, 
 }
 
 void find_hold(const RunData& run, Segmentation& s) {
-  // A hold starts at the deepest point and lasts until the blade has clearly withdrawn
-  // (0.2 mm: far beyond servo settling and overshoot); a turnaround is no hold (< 0.5 s).
+  // A hold starts where the blade arrived at its deepest position and lasts until the blade
+  // has clearly withdrawn (0.2 mm: far beyond servo settling and overshoot); a turnaround is
+  // no hold (< 0.5 s).
   constexpr double kWithdrawn_mm = 0.2;
   std::size_t end = s.insertion_end;
   while (end < run.size() && run.x_mm[end] >= s.max_depth_mm - kWithdrawn_mm) ++end;
@@ -64,7 +65,7 @@ void find_hold(const RunData& run, Segmentation& s) {
   // (the needle data: 1.2 s into the hold, and the relaxation's fast part went unseen).
   const std::size_t arrived = arrival_index(run, s.insertion_end, held, window);
   if (run.t_s[leave - 1] - run.t_s[arrived] >= 0.5) {
-    s.hold_begin = arrived;
+    s.insertion_end = s.hold_begin = arrived;  // the insertion ends where the hold begins
     s.hold_end = leave;
   } else {
     s.hold_begin = s.hold_end = s.insertion_end + 1;  // no hold: retraction starts after the deepest point

@@ -17,7 +17,7 @@ const char* phase_name(Phase phase);
 
 struct Segmentation {
   std::vector<Phase> phase;       // one per sample
-  std::size_t insertion_end = 0;  // index of the deepest point
+  std::size_t insertion_end = 0;  // where the insertion ended: the hold's first sample, else the deepest
   std::size_t hold_begin = 0, hold_end = 0;  // [begin, end) in samples; empty if no hold
   double x_pi_mm = 0.0;           // detected puncture (0 if none)
   double x_c_mm = 0.0;            // detected end of the cutting plateau

@@ -61,7 +61,7 @@ TEST(Phases, FindThePunctureHoldAndRetractionOfASimulatedCut) {
 
 // A digitized curve's position jitters in the hold (the needle data: 0.04 mm), and its
 // largest value can come late: the hold still begins where the blade arrived.
-TEST(Phases, AHoldBeginsWhereTheBladeArrivedNotAtItsJitterSLargestPosition) {
+TEST(Phases, AHoldBeginsWhereTheBladeArrivedNotWhereItsPositionJitterPeaks) {
   RunData run = one_run({}, 2.0, 12.0);
   const Segmentation clean = detect_phases(run);
   ASSERT_GT(clean.hold_end, clean.hold_begin);
@@ -75,6 +75,7 @@ TEST(Phases, AHoldBeginsWhereTheBladeArrivedNotAtItsJitterSLargestPosition) {
   ASSERT_GT(s.hold_end, s.hold_begin);
   EXPECT_NEAR(run.t_s[s.hold_begin], arrived_s, 0.05);
   EXPECT_NEAR(run.t_s[s.hold_end - 1] - run.t_s[s.hold_begin], 2.0, 0.1);
+  EXPECT_EQ(s.insertion_end, s.hold_begin) << "the insertion ends where the hold begins";
 }
 
 TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
