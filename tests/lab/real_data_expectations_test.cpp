@@ -32,11 +32,19 @@ const CandidateResult* candidate(const Diagnosis& d, const std::string& name) {
   return nullptr;
 }
 
+// The relaxation candidate of `diagnose --only stress_relaxation` on the needle data
+// (diagnosed once for the tests that read it), or null.
+const CandidateResult* needle_relaxation() {
+  static const Diagnosis d = [] {
+    DiagnoseOptions only;
+    only.only = {"stress_relaxation"};
+    return diagnose(ForceModel::paper_interpreted(), {needle()}, only);
+  }();
+  return candidate(d, "stress_relaxation");
+}
+
 TEST(NeedleDataBiomechanics, RelaxationInTheHoldIsMeasuredNotLeftAtItsStart) {
-  DiagnoseOptions only;
-  only.only = {"stress_relaxation"};
-  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle()}, only);
-  const CandidateResult* relax = candidate(d, "stress_relaxation");
+  const CandidateResult* relax = needle_relaxation();
   ASSERT_NE(relax, nullptr);
   ASSERT_TRUE(relax->applicable) << relax->not_applicable;
   std::printf("needle: stress_relaxation gain %.1f %%: %s\n", relax->gain_pct,
@@ -54,10 +62,7 @@ TEST(NeedleDataBiomechanics, RelaxationInTheHoldIsMeasuredNotLeftAtItsStart) {
 // by 0.04 mm in the hold, and its largest value comes 1.2 s after the needle stopped; until
 // 2026-11-28 the hold began there, and the fit reported a decay of 6 % (a 56 s time constant).
 TEST(NeedleDataBiomechanics, TheHoldBeginsWhereTheNeedleStoppedSoTheRelaxationIsMeasuredWhole) {
-  DiagnoseOptions only;
-  only.only = {"stress_relaxation"};
-  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle()}, only);
-  const CandidateResult* relax = candidate(d, "stress_relaxation");
+  const CandidateResult* relax = needle_relaxation();
   ASSERT_NE(relax, nullptr);
   const std::size_t at = relax->evidence.find("decays by ");
   ASSERT_NE(at, std::string::npos) << relax->evidence;
@@ -70,10 +75,7 @@ TEST(NeedleDataBiomechanics, TheHoldBeginsWhereTheNeedleStoppedSoTheRelaxationIs
 // relaxation's `reload` (how far the tissue reloads after such a stop) has nothing to act on.
 // Until 2026-11-28 the evidence called that a fit that did not converge.
 TEST(NeedleDataBiomechanics, AParameterTheRunsCannotInformIsCalledThatNotAFailedFit) {
-  DiagnoseOptions only;
-  only.only = {"stress_relaxation"};
-  const Diagnosis d = diagnose(ForceModel::paper_interpreted(), {needle()}, only);
-  const CandidateResult* relax = candidate(d, "stress_relaxation");
+  const CandidateResult* relax = needle_relaxation();
   ASSERT_NE(relax, nullptr);
   EXPECT_EQ(relax->evidence.find("did not leave its start"), std::string::npos) << relax->evidence;
   EXPECT_NE(relax->evidence.find("reload has nothing to act on in these runs (no run stops on the way in)"),

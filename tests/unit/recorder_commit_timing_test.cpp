@@ -46,17 +46,20 @@ void until_committed(const Recorder& recorder, std::uint64_t samples) {
   }
 }
 
+// A run in a new archive at `path`, started as the loop would have: its id.
+std::int64_t started_run(const std::string& path, const char* eye_id) {
+  archive::Archive archive(path);
+  archive::NewRun run;
+  run.eye_id = eye_id;
+  const std::int64_t run_id = archive.create_run(run);
+  archive.mark_started(run_id);
+  return run_id;
+}
+
 TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRunsIsNoExposure) {
   testing::ScratchDir dir("recorder-commit-timing");
   const std::string path = (dir.path() / "archive.sqlite").string();
-  std::int64_t run_id = 0;
-  {
-    archive::Archive archive(path);
-    archive::NewRun run;
-    run.eye_id = "TIMING";
-    run_id = archive.create_run(run);
-    archive.mark_started(run_id);
-  }
+  const std::int64_t run_id = started_run(path, "TIMING");
   rt::LoopChannels channels(1U << 14U);
   Recorder recorder(channels, path, kFlushIntervalMs);
   recorder.start();
@@ -88,14 +91,7 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
 TEST(RecorderCheckpoints, TheLogIsNeverCopiedInsideARunsCommitsButBetweenRuns) {
   testing::ScratchDir dir("recorder-checkpoints");
   const std::string path = (dir.path() / "archive.sqlite").string();
-  std::int64_t run_id = 0;
-  {
-    archive::Archive archive(path);
-    archive::NewRun run;
-    run.eye_id = "CHECKPOINTS";
-    run_id = archive.create_run(run);
-    archive.mark_started(run_id);
-  }
+  const std::int64_t run_id = started_run(path, "CHECKPOINTS");
   rt::LoopChannels channels(1U << 14U);
   Recorder recorder(channels, path, kFlushIntervalMs);
   recorder.start();
