@@ -56,13 +56,25 @@ std::int64_t started_run(const std::string& path, const char* eye_id) {
   return run_id;
 }
 
+// A scratch archive with a started run, and a recorder on it that has started.
+struct RecordingArchive {
+  RecordingArchive(const char* scratch, const char* eye_id)
+      : dir(scratch), path((dir.path() / "archive.sqlite").string()), run_id(started_run(path, eye_id)),
+        recorder(channels, path, kFlushIntervalMs) {
+    recorder.start();
+  }
+  testing::ScratchDir dir;
+  std::string path;
+  std::int64_t run_id;
+  rt::LoopChannels channels{1U << 14U};
+  Recorder recorder;
+};
+
 TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRunsIsNoExposure) {
-  testing::ScratchDir dir("recorder-commit-timing");
-  const std::string path = (dir.path() / "archive.sqlite").string();
-  const std::int64_t run_id = started_run(path, "TIMING");
-  rt::LoopChannels channels(1U << 14U);
-  Recorder recorder(channels, path, kFlushIntervalMs);
-  recorder.start();
+  RecordingArchive rig("recorder-commit-timing", "TIMING");
+  rt::LoopChannels& channels = rig.channels;
+  Recorder& recorder = rig.recorder;
+  const std::int64_t run_id = rig.run_id;
   std::uint64_t cycle = 0;
   ASSERT_NO_FATAL_FAILURE(feed(channels, run_id, cycle, 400ms));
   ASSERT_NO_FATAL_FAILURE(until_committed(recorder, cycle));
@@ -89,12 +101,11 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
 // pages (~4 MB) unless told not to: a commit of hundreds of ms in the middle of a cut (the
 // power-cut test's stalls). The recorder copies it only once no sample has come for a second.
 TEST(RecorderCheckpoints, TheLogIsNeverCopiedInsideARunsCommitsButBetweenRuns) {
-  testing::ScratchDir dir("recorder-checkpoints");
-  const std::string path = (dir.path() / "archive.sqlite").string();
-  const std::int64_t run_id = started_run(path, "CHECKPOINTS");
-  rt::LoopChannels channels(1U << 14U);
-  Recorder recorder(channels, path, kFlushIntervalMs);
-  recorder.start();
+  RecordingArchive rig("recorder-checkpoints", "CHECKPOINTS");
+  rt::LoopChannels& channels = rig.channels;
+  Recorder& recorder = rig.recorder;
+  const std::int64_t run_id = rig.run_id;
+  const std::string& path = rig.path;
   std::this_thread::sleep_for(1500ms);  // the log the setup left is copied while idle
   const std::uint64_t checkpoints_before = recorder.stats().checkpoints.load();
   const std::uintmax_t database_before = std::filesystem::file_size(path);  // [B]
