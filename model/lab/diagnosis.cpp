@@ -224,6 +224,11 @@ void name_effect(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Ca
   }
 }
 
+// The baseline's errors and floor, as the floor warnings read them (eye_confounds.hpp).
+FloorReading baseline_reading(const Diagnosis& d) {
+  return {d.baseline_cv_rmse_N, d.baseline_own_eye_cv_rmse_N, d.noise_floor_N, d.floor.measurement_N, d.floor.eye_variation_N};
+}
+
 // none | EFFECT | unexplained, from the ranked candidates (see diagnosis.hpp).
 void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const ResidualStructure& baseline_structure, std::size_t eyes) {
   const CandidateResult* significant = nullptr;
@@ -248,9 +253,7 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
   if (near_floor) return;  // "none": nothing stands above the floor
   d.verdict = "unexplained";
   d.unexplained_where = baseline_structure;
-  const FloorReading baseline{d.baseline_cv_rmse_N, d.baseline_own_eye_cv_rmse_N, d.noise_floor_N, d.floor.measurement_N,
-                              d.floor.eye_variation_N};
-  if (auto w = uncertain_floor_warning(baseline, eyes, kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
+  if (auto w = uncertain_floor_warning(baseline_reading(d), eyes, kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
   if (!d.candidates.empty() && d.candidates.front().applicable && d.candidates.front().gain_pct > 0.0) {
     d.partial_candidate = d.candidates.front().effect;
   }
@@ -319,8 +322,7 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
   d.noise_floor_N = d.floor.total_N;
   if (!base.full.converged) d.warnings.push_back("the baseline fit did not converge; its figures are those where it stopped");
   for (std::string& w : eye_confound_warnings(runs, base.full.eyes, covariate_keys(catalogue))) d.warnings.push_back(std::move(w));
-  const FloorReading reading{base.rmse_N, base.own_eye_rmse_N, d.floor.total_N, d.floor.measurement_N, d.floor.eye_variation_N};
-  if (auto w = inflated_floor_warning(reading)) d.warnings.push_back(std::move(*w));
+  if (auto w = inflated_floor_warning(baseline_reading(d))) d.warnings.push_back(std::move(*w));
   std::vector<std::string> names;
   const std::set<std::string> present(d.base_effects.begin(), d.base_effects.end());
   for (const std::string& name : catalogue.candidates()) {
