@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "rig/sim/hidden_effect.hpp"
 #include "run_data.hpp"
 
 namespace rig::zoo {
@@ -27,6 +28,8 @@ struct ZooDraw {
   double magnitude = 0.0;             // RMS of the effect over the in-tissue samples / floor_N
   double magnitude_noise = 0.0;       // the same / the force channel's white noise sigma (1.5 mN)
   double floor_N = 0.0;               // the simulator's true floor: sqrt(noise^2 + eye variation^2) [N]
+  std::vector<double> component_magnitudes;  // mixtures: each effect's magnitude on its own [x floor_N]
+  std::vector<sim::HiddenEffect> hidden;     // the simulator's effects at the sizes drawn (none for zoo laws)
   std::vector<model::RunData> runs;
 };
 

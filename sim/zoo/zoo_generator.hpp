@@ -34,7 +34,9 @@ class ZooGenerator {
 
  private:
   Recipe recipe(std::uint64_t seed) const;
-  double pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size) const;
+  static constexpr std::size_t kPilotRuns = 3;  // runs simulated to measure a magnitude or the floor
+  double pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size, std::size_t runs = kPilotRuns) const;
+  std::vector<double> calibrate_components(Recipe& r, const std::vector<sim::RunSpec>& specs, double floor_in_noise) const;
   // The simulator's own floor for these runs [N]: RMS of white noise and eye-to-eye variation.
   double true_floor_N(const std::vector<sim::RunSpec>& specs) const;
   std::vector<model::RunData> simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,

@@ -146,6 +146,9 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
       std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
                    s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
                    1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
+      if (draw.component_magnitudes.size() == 2) {
+        std::fprintf(stderr, "     each effect alone: %.1fx and %.1fx the true floor\n", draw.component_magnitudes[0], draw.component_magnitudes[1]);
+      }
     }
     z.draws.push_back(std::move(s));
     if (o.verbose && (k + 1) % 10 == 0 && k + 1 < o.draws) {  // a long run cut short still has its figures
