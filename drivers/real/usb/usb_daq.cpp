@@ -4,6 +4,7 @@
 #include <libusb-1.0/libusb.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -42,7 +43,12 @@ UsbDaq::UsbDaq(const UsbDaqSettings& settings) : settings_(settings) {
   if (!open_device(why)) throw std::runtime_error("USB DAQ " + id + ": " + why);
   usbdaq::Message reply{};
   std::span<const std::uint8_t> payload;
-  const IoStatus s = transact(usbdaq::Opcode::kHello, {}, reply, payload);
+  // A device still answering an earlier session, or a host stalled past the time-out, can
+  // miss one greeting; its late reply is skipped by the next (transact).
+  IoStatus s = IoStatus::kTimeout;
+  for (int attempt = 0; attempt < kHelloAttempts && (s == IoStatus::kTimeout || s == IoStatus::kBadData); ++attempt) {
+    s = transact(usbdaq::Opcode::kHello, {}, reply, payload);
+  }
   const auto hello = s == IoStatus::kOk ? usbdaq::decode_hello(payload) : std::nullopt;
   if (!hello) {
     close_device();
@@ -91,6 +97,10 @@ bool UsbDaq::open_device(std::string& why) noexcept {
       handle_ = handle;
       device_fd_ = fd;
       have_sequence_ = false;
+      // Number this session's requests from the clock, not from 1: replies the device still
+      // holds for an earlier session (rigd restarted, a greeting timed out) then carry
+      // sequences this one does not expect, and are skipped (transact).
+      sequence_ = static_cast<std::uint16_t>(std::chrono::steady_clock::now().time_since_epoch().count() >> 10);
       return true;
     }
     why = "not found on the USB bus" + (settings_.serial.empty() ? std::string() : " with serial " + settings_.serial);
@@ -159,13 +169,15 @@ IoStatus UsbDaq::transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> p
   int sent = 0, got = 0;
   if (const int r = libusb_bulk_transfer(handle_, ep_out_, request.data(), static_cast<int>(length), &sent, settings_.timeout_ms); r != 0)
     return fail(r);
-  // A reply to an earlier request that timed out may still be queued: skip stale sequences.
-  for (int attempt = 0; attempt < 4; ++attempt) {
+  // Replies to earlier requests that timed out may still be queued, whatever they answered:
+  // skip every other sequence.
+  for (int attempt = 0; attempt < kStaleRepliesSkipped; ++attempt) {
     if (const int r = libusb_bulk_transfer(handle_, ep_in_, reply.data(), static_cast<int>(reply.size()), &got, settings_.timeout_ms); r != 0)
       return fail(r);
     const auto header = usbdaq::decode_header(std::span<const std::uint8_t>(reply.data(), static_cast<std::size_t>(got)));
-    if (!header || !header->response || header->opcode != opcode) { ++counters_.bad_data; return IoStatus::kBadData; }
+    if (!header || !header->response) { ++counters_.bad_data; return IoStatus::kBadData; }
     if (header->sequence != sequence) continue;
+    if (header->opcode != opcode) { ++counters_.bad_data; return IoStatus::kBadData; }
     if (header->status != usbdaq::Status::kOk) { ++counters_.bad_data; return IoStatus::kRefused; }
     reply_payload = std::span<const std::uint8_t>(reply.data() + usbdaq::kHeaderSize, header->length);
     return IoStatus::kOk;

@@ -63,6 +63,8 @@ class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
   libusb_device_handle* handle_ = nullptr;  // closed in close_device()
   int device_fd_ = -1;
   unsigned char ep_in_ = 0x81, ep_out_ = 0x02;
+  static constexpr int kHelloAttempts = 3;        // greetings before the constructor gives up
+  static constexpr int kStaleRepliesSkipped = 8;  // queued replies of earlier requests read past per request
   std::uint16_t sequence_ = 0;
   int cycles_since_attempt_ = 0;
   usbdaq::HelloReply hello_{};
