@@ -183,6 +183,13 @@ void mixture(Recipe& r, sim::RandomSource& rng) {
   r.target = std::max(r.target, 3.0);  // both must be findable: each is scaled to this on its own (ZooGenerator::draw)
 }
 
+// Effect k of a recipe at the draw's size (times its own scale, in a mixture).
+sim::HiddenEffect sized_effect(const Recipe& r, std::size_t k, double size) {
+  sim::HiddenEffect e = r.effects[k];
+  e.size = size * (k < r.effect_scale.size() ? r.effect_scale[k] : 1.0);
+  return e;
+}
+
 }  // namespace
 
 Recipe ZooGenerator::recipe(std::uint64_t seed) const {
@@ -208,11 +215,7 @@ std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r, const std::v
                                                    std::size_t count, double eye_variability) const {
   sim::GeneratorOptions g;
   g.physics.tissue.eye_variability = eye_variability;
-  for (std::size_t k = 0; k < r.effects.size(); ++k) {
-    sim::HiddenEffect e = r.effects[k];
-    e.size = size * (k < r.effect_scale.size() ? r.effect_scale[k] : 1.0);
-    g.effects.push_back(e);
-  }
+  for (std::size_t k = 0; k < r.effects.size(); ++k) g.effects.push_back(sized_effect(r, k, size));
   if (r.law) {
     const LawFactory law = r.law;
     g.extra_force = [law, size](const sim::RunSpec& spec) { return law(spec, size); };
@@ -289,10 +292,7 @@ ZooDraw ZooGenerator::draw(std::uint64_t seed) const {
     d.magnitude_noise = at_one * size;
     d.magnitude = d.magnitude_noise / floor_in_noise;
   }
-  for (std::size_t k = 0; k < r.effects.size(); ++k) {
-    d.hidden.push_back(r.effects[k]);
-    d.hidden.back().size = size * (k < r.effect_scale.size() ? r.effect_scale[k] : 1.0);
-  }
+  for (std::size_t k = 0; k < r.effects.size(); ++k) d.hidden.push_back(sized_effect(r, k, size));
   d.runs = simulate(r, specs, size, specs.size());
   return d;
 }

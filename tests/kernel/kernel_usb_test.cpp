@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <string>
+#include <ios>
 #include <thread>
 
 #include "kernel_env.hpp"
@@ -80,11 +80,12 @@ TEST_F(Gadget, TheDeviceDropsItsOutputsWhenTheHostFallsSilent) {
 // reply: what a session leaves queued when its greeting times out (rigd restarted, or a host
 // stalled past the time-out). Returns false if the device could not be reached.
 bool leave_a_hello_reply_queued(const drivers::UsbDaqSettings& settings) {
+  libusb_set_option(nullptr, LIBUSB_OPTION_NO_DEVICE_DISCOVERY);  // as the driver: no udevd in the VM
   for (const auto& entry : std::filesystem::directory_iterator(settings.sysfs_root)) {
     std::ifstream vendor(entry.path() / "idVendor"), product(entry.path() / "idProduct"), bus(entry.path() / "busnum"), dev(entry.path() / "devnum");
-    std::string v, p;
-    int busnum = 0, devnum = 0;
-    if (!(vendor >> v && product >> p && bus >> busnum && dev >> devnum) || v != "1d6b" || p != "0104") continue;
+    int vid = 0, pid = 0, busnum = 0, devnum = 0;
+    if (!(vendor >> std::hex >> vid && product >> std::hex >> pid && bus >> busnum && dev >> devnum)) continue;
+    if (vid != settings.vendor_id || pid != settings.product_id) continue;
     char node[64];
     std::snprintf(node, sizeof node, "%s/%03d/%03d", settings.devfs_root.c_str(), busnum, devnum);
     const int fd = ::open(node, O_RDWR | O_CLOEXEC);
@@ -120,7 +121,6 @@ bool leave_a_hello_reply_queued(const drivers::UsbDaqSettings& settings) {
 // that session's own reply then came back to its first read as garbage, and every later test
 // failed the same way (2026-11-29). The next session must skip a reply it did not ask for.
 TEST_F(Gadget, AnEarlierSessionsLateReplyIsNotTakenForThisOnes) {
-  libusb_set_option(nullptr, LIBUSB_OPTION_NO_DEVICE_DISCOVERY);
   ASSERT_TRUE(leave_a_hello_reply_queued(settings)) << "could not send the abandoned greeting";
   wait_ms(300);  // the reply reaches the device's IN queue
   drivers::UsbDaq daq(settings);
