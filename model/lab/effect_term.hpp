@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "eye_params.hpp"
 #include "force_model.hpp"
 #include "prepared_run.hpp"
 
@@ -81,6 +82,12 @@ class EffectTerm {
   // The catalogue picks the form by an information criterion (see form_selection.hpp).
   virtual std::vector<std::string> forms() const { return {}; }
   virtual std::string form() const { return ""; }
+
+  // The shared parameters (fitted values `p`) through which this term sets a run's tissue
+  // scale or puncture depth from a number fixed per run (its velocity, IOP, a covariate):
+  // they explain part of what would be eye variation, and take that many degrees of freedom
+  // from the eyes' spread (eye_params.hpp). Shapes within a run take none.
+  virtual EyeDof eye_level_params(const double* /*p*/) const { return {}; }
 };
 
 }  // namespace rig::model

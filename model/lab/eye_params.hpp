@@ -21,6 +21,22 @@ struct EyeSpread {
   bool any() const { return precut_scale > 0.0 || cut_scale > 0.0 || x_pi_mm > 0.0; }
 };
 
+// How many fitted parameters each eye parameter's population value depends on through
+// numbers fixed per run (the baseline's level; a law in the run's velocity, IOP or a
+// covariate). Each takes one degree of freedom from the eyes' spread: over n eyes,
+// sum(d_r^2) estimates (n - count) (tau^2 + v), not n (tau^2 + v) (eye_variation.hpp).
+struct EyeDof {
+  int precut_scale = 0;
+  int cut_scale = 0;
+  int x_pi_mm = 0;
+  EyeDof& operator+=(const EyeDof& o) {
+    precut_scale += o.precut_scale;
+    cut_scale += o.cut_scale;
+    x_pi_mm += o.x_pi_mm;
+    return *this;
+  }
+};
+
 // The tissue force before an eye's scales, split by where each scale acts (the derivatives
 // of the prediction by precut_scale and cut_scale) [N].
 struct EyeColumns {

@@ -5,7 +5,9 @@
 //   1. per run, the unpenalised estimate d_r and its sampling variance v_r (scales: least
 //      squares over the run's fit rows; puncture shift: grid + golden search on the rows
 //      around the model's puncture, variance from the curvature of that error profile);
-//   2. the population variance by the method of moments, tau^2 = max(0, mean d_r^2 - mean v_r);
+//   2. the population variance by the method of moments, tau^2 = max(0, sum d_r^2 / (n - p)
+//      - mean v_r), p the parameters fitted on one value per eye (`fitted`: the level and any
+//      law in the run's velocity, IOP or a covariate; EyeDof);
 //   3. each run's value shrunk toward the population, d_r tau^2 / (tau^2 + v_r).
 // Eye-free data give tau = 0 and every eye exactly the population model.
 #include <Eigen/Core>
@@ -22,11 +24,18 @@ struct EyeEstimate {
   EyeSpread spread;             // population standard deviations
 };
 
+// One eye parameter's population variance tau^2 by the method of moments (step 2): from each
+// eye's unpenalised deviation d_r from the population model and its sampling variance v_r,
+// after `fitted` parameters were fitted on one value per eye: max(0, sum d_r^2 / (n - fitted)
+// - mean v_r), n - fitted at least 1.
+double eye_parameter_variance(const std::vector<double>& deviations, const std::vector<double>& variances, int fitted);
+
 // Eye parameters of `runs` given the shared parameters and each run's instrument
 // coefficients (`betas`, aligned with runs; empty vectors if none). Needs >= 3 runs to
-// estimate a spread; with fewer every eye is the population model.
+// estimate a spread; with fewer every eye is the population model. `fitted`: the degrees of
+// freedom the shared parameters took from each eye parameter (step 2).
 EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
-                          const std::vector<Eigen::VectorXd>& betas);
+                          const std::vector<Eigen::VectorXd>& betas, const EyeDof& fitted);
 
 // The mean squared error per analysed sample [N^2] that eye variation adds to a prediction
 // made with the population model (eye parameters unknown): the expectation over eyes drawn

@@ -216,13 +216,21 @@ FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams
   return result;
 }
 
+EyeDof Fitter::eye_level_params(const ModelParams& p) const {
+  // The baseline's fitted stiffnesses and puncture shift set each eye parameter's level.
+  EyeDof dof = fit_baseline_ ? EyeDof{1, 1, 1} : EyeDof{};
+  const auto& terms = predictor_->terms();
+  for (std::size_t k = 0; k < terms.size() && k < p.shared.size(); ++k) dof += terms[k]->eye_level_params(p.shared[k].data());
+  return dof;
+}
+
 FitResult Fitter::fit(const ModelParams& start, int max_evaluations) const {
   FitResult result = minimise(start, std::vector<EyeParams>(runs_.size()), max_evaluations);
   if (!eyes_differ_) return result;
   // Alternate: eyes given the shared parameters, shared parameters given the eyes. Eye-free
   // data give no spread and stop after the first estimate.
   for (int round = 0; round < 2; ++round) {
-    const EyeEstimate eyes = estimate_eyes(*predictor_, runs_, result.params, result.run_coefficients);
+    const EyeEstimate eyes = estimate_eyes(*predictor_, runs_, result.params, result.run_coefficients, eye_level_params(result.params));
     if (!eyes.spread.any()) break;
     const int evaluations = result.evaluations;
     const bool left_start = result.left_start;

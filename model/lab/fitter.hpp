@@ -53,6 +53,8 @@ class Fitter {
   double sse(const ModelParams& p) const;
 
  private:
+  // Degrees of freedom the fitted shared parameters take from each eye parameter's spread.
+  EyeDof eye_level_params(const ModelParams& p) const;
   struct Spec {
     double lower, upper;
     bool bounded;

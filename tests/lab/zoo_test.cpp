@@ -310,6 +310,16 @@ TEST(BlindZoo, ACandidateThatPredictsUnseenEyesWorseLosesATieToOneThatImprovesBo
 // family's third form, a sine proportional to the measured force, names it.
 TEST(BlindZoo, ARippleThatGrowsWithTheLoadIsNamed) { expect_verdict(120043, "spatial_ripple"); }
 
+// Seed 200038 (a scored draw: it missed in the range 200000-200059, whose figure stands as
+// measured) is a bent link of post_mortem_h after the puncture, 3.4x its floor. The
+// covariate's per-phase form fits two slopes on the cutting scale from nine eyes; the eyes'
+// spread left after it was estimated as if nothing had been fitted, at 6/9 of the truth: a
+// floor of 5.5 mN (true 7.6), so 30.6 % of the excess stood above it (bar 30 %) and the
+// verdict was `unexplained` until the spread counted those slopes (2026-11-29).
+TEST(BlindZoo, ACovariatesSlopesFittedOnNineEyesDoNotLowerTheFloorTheyAreJudgedAgainst) {
+  expect_verdict(200038, "covariate:post_mortem_h");
+}
+
 // Seed 20009 of the effect-free tuning draws: 9 eyes, no effect. `covariate:blade_uses`
 // ("after the puncture only") fits the eyes' random cutting scales to the run order and gains
 // 27.3 % on unseen eyes; against the 16 % bar of every candidate it was the verdict until the

@@ -62,6 +62,18 @@ double CovariateScaling::scale(const SampleView& s, const double* p) const {
   }
 }
 
+// Each slope or curvature is fitted on one value per eye, where it acts.
+EyeDof CovariateScaling::eye_level_params(const double* /*p*/) const {
+  switch (form_) {
+    case kExponential:
+    case kLinear: return {1, 1, 0};
+    case kAfterPuncture: return {0, 1, 0};
+    case kBeforePuncture: return {1, 0, 0};
+    case kPunctureShift: return {0, 0, 2};
+    default: return {2, 2, 0};
+  }
+}
+
 std::string CovariateScaling::evidence(const EvidenceInput& in) const {
   const double* p = in.shared;
   const double per_unit = 100.0 * p[0] / range_.spread;  // the slope at the mean [% per unit]

@@ -30,6 +30,7 @@ class CovariateScaling final : public FamilyTerm {
   void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  EyeDof eye_level_params(const double* p) const override;
   const std::string& key() const { return key_; }
   const CovariateRange& range() const { return range_; }
 

@@ -61,6 +61,13 @@ double IopStiffness::toe_end_mm(double dp, const double* p, double x1_mm) const 
   return form_ == kShorterToe ? std::max(0.0, x1_mm - p[0] * dp) : x1_mm;
 }
 
+// Read at each run's IOP: the stiffness laws scale both tissue scales; the shorter toe
+// changes the pre-cut force alone.
+EyeDof IopStiffness::eye_level_params(const double* /*p*/) const {
+  const int k = static_cast<int>(shared_params().size());
+  return form_ == kShorterToe ? EyeDof{k, 0, 0} : EyeDof{k, k, 0};
+}
+
 std::string IopStiffness::evidence(const EvidenceInput& in) const {
   double lo = 1e9, hi = -1e9;
   for (const PreparedRun* r : in.runs) lo = std::min(lo, r->iop_mmHg), hi = std::max(hi, r->iop_mmHg);

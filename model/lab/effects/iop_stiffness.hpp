@@ -24,6 +24,7 @@ class IopStiffness final : public FamilyTerm {
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  EyeDof eye_level_params(const double* p) const override;
   double factor(double dp_mmHg, const double* p) const;
   // End of the toe region at dP [mm], from the model's x1 (moves in the "shorter toe" form only).
   double toe_end_mm(double dp_mmHg, const double* p, double x1_mm) const;

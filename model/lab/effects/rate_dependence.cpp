@@ -81,6 +81,14 @@ double RateDependence::scale(const SampleView& s, const double* p) const {
   return std::max(0.05, 1.0 + share * (f - 1.0));
 }
 
+// The law is read at each run's insertion velocity: one value per eye. It acts on the
+// cutting scale, and on the pre-cut one where a share of it acts before the puncture.
+EyeDof RateDependence::eye_level_params(const double* p) const {
+  const int k = law_param_count();
+  constexpr double kActsBeforePuncture = 0.1;  // share of the law [1]
+  return {p[k + 1] >= kActsBeforePuncture ? k : 0, k, 0};
+}
+
 std::string RateDependence::evidence(const EvidenceInput& in) const {
   double lo = 1e9, hi = 0.0;
   for (const PreparedRun* r : in.runs) lo = std::min(lo, r->velocity_cmd_mm_s), hi = std::max(hi, r->velocity_cmd_mm_s);

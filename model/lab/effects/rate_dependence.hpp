@@ -26,6 +26,7 @@ class RateDependence final : public FamilyTerm {
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
+  EyeDof eye_level_params(const double* p) const override;
   double factor(double velocity_mm_s, const double* p) const;
 
  private:
