@@ -6,6 +6,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,13 @@ struct GeneratorOptions {
 // puncture), a 2 s stop at 5.5 mm (after it, on the cutting plateau) and 1 s at depth.
 void apply_standard_protocol(RunSpec& spec);
 
+// A simulated run the rig's interlocks stopped (force limit, stall, ...): what() names the
+// eye, its settings and the fault.
+struct RunFaulted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// Throws RunFaulted when the run does not end `Done`.
 model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec);
 
 // A balanced design: every IOP x velocity, covariate values spread over the runs; with

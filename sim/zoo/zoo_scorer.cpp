@@ -102,6 +102,7 @@ DrawScore score_draw(const ZooDraw& draw, int threads) {
 void summarise(ZooScore& z) {
   ZooScore fresh;
   fresh.draws = std::move(z.draws);
+  fresh.not_run = std::move(z.not_run);
   z = std::move(fresh);
   std::vector<double> generate, diagnose;
   for (const DrawScore& s : z.draws) {
@@ -132,7 +133,15 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
   ZooScore z;
   for (int k = 0; k < o.draws; ++k) {
     const auto start = std::chrono::steady_clock::now();
-    const ZooDraw draw = generator.draw(o.first_seed + static_cast<std::uint64_t>(k));
+    const std::uint64_t seed = o.first_seed + static_cast<std::uint64_t>(k);
+    ZooDraw draw;
+    try {
+      draw = generator.draw(seed);
+    } catch (const sim::RunFaulted& e) {
+      z.not_run.push_back({seed, e.what()});
+      if (o.verbose) std::fprintf(stderr, "draw %llu not run: %s\n", static_cast<unsigned long long>(seed), e.what());
+      continue;
+    }
     const double generate_s = seconds_since(start);
     DrawScore s = score_draw(draw, o.threads);
     s.generate_s = generate_s;
@@ -180,6 +189,10 @@ void print_score(const ZooScore& z, std::FILE* out) {
   line("`unexplained` on out-of-catalogue effects, >= 3x floor", z.unexplained, ">= 80 %");
   line("mixtures: both named in two rounds (diagnose --with)", z.mixtures_found, "(none)");
   line("error after a correct verdict <= floor + 25 % of the excess", z.fit_close, ">= 90 %");
+  if (!z.not_run.empty()) {
+    std::fprintf(out, "  %zu draw(s) not run, outside every rate (the simulated rig's interlocks stopped a run):\n", z.not_run.size());
+    for (const DrawNotRun& d : z.not_run) std::fprintf(out, "    %llu: %s\n", static_cast<unsigned long long>(d.seed), d.why.c_str());
+  }
 }
 
 }  // namespace rig::zoo

@@ -41,8 +41,17 @@ struct Rate {
   double percent() const { return total > 0 ? 100.0 * hits / total : 0.0; }
 };
 
+// A draw whose runs the simulated rig could not complete: an interlock stopped one (a large
+// effect can push the force past the load cell's limit, as on a real rig). It has no verdict
+// and stands outside every rate; the table counts it.
+struct DrawNotRun {
+  std::uint64_t seed = 0;
+  std::string why;
+};
+
 struct ZooScore {
   std::vector<DrawScore> draws;
+  std::vector<DrawNotRun> not_run;
   Rate catalogue_correct;                      // catalogue families (both kinds) at >= 3x the floor
   std::map<std::string, Rate> correct_by_family;
   Rate catalogue_correct_below_3x;             // the same under 3x (reported, no target)

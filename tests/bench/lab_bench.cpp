@@ -90,7 +90,14 @@ rig::zoo::ZooOptions zoo_options(const std::string& only) {
 // The draws' runs as run-CSV, with what each hides, so that a draw can be diagnosed by hand.
 int save_draws(const rig::zoo::ZooGenerator& generator, const rig::zoo::ScoreOptions& o, const std::string& dir) {
   for (int k = 0; k < o.draws; ++k) {
-    const rig::zoo::ZooDraw draw = generator.draw(o.first_seed + static_cast<std::uint64_t>(k));
+    const std::uint64_t seed = o.first_seed + static_cast<std::uint64_t>(k);
+    rig::zoo::ZooDraw draw;
+    try {
+      draw = generator.draw(seed);
+    } catch (const rig::sim::RunFaulted& e) {
+      std::printf("draw %llu not run: %s\n", static_cast<unsigned long long>(seed), e.what());
+      continue;
+    }
     const std::string folder = dir + "/" + std::to_string(draw.seed);
     std::filesystem::create_directories(folder);
     for (std::size_t r = 0; r < draw.runs.size(); ++r) rig::model::write_run_csv(draw.runs[r], folder + "/run-" + std::to_string(r) + ".csv");

@@ -320,6 +320,29 @@ TEST(BlindZoo, ACovariatesSlopesFittedOnNineEyesDoNotLowerTheFloorTheyAreJudgedA
   expect_verdict(200038, "covariate:post_mortem_h");
 }
 
+// Seed 220031 (scored in the range 220000-220059): one of its runs pushes the force past the
+// rig's 2 N limit, and the interlock stops it, as on a real rig. The bench aborted there (an
+// uncaught exception after 31 draws, 2026-11-29); the draw now stands outside every rate,
+// counted with its reason, and the range goes on.
+TEST(BlindZoo, ADrawWhoseRunTheRigsInterlockStopsIsCountedApartAndTheRangeGoesOn) {
+  ScoreOptions one;
+  one.first_seed = 220031;
+  one.draws = 1;
+  const ZooScore z = score_zoo(ZooGenerator(), one);
+  ASSERT_EQ(z.not_run.size(), 1U);
+  EXPECT_TRUE(z.draws.empty());
+  EXPECT_NE(z.not_run[0].why.find("force limit"), std::string::npos) << z.not_run[0].why;
+  EXPECT_NE(z.not_run[0].why.find("ZOO-220031-"), std::string::npos) << "names the run";
+  std::FILE* sink = std::tmpfile();
+  ASSERT_NE(sink, nullptr);
+  print_score(z, sink);  // the table says so
+  std::rewind(sink);
+  std::string table(4096, '\0');
+  table.resize(std::fread(table.data(), 1, table.size(), sink));
+  std::fclose(sink);
+  EXPECT_NE(table.find("1 draw(s) not run"), std::string::npos) << table;
+}
+
 // Seed 20009 of the effect-free tuning draws: 9 eyes, no effect. `covariate:blade_uses`
 // ("after the puncture only") fits the eyes' random cutting scales to the run order and gains
 // 27.3 % on unseen eyes; against the 16 % bar of every candidate it was the verdict until the
