@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 
@@ -293,7 +294,13 @@ ZooDraw ZooGenerator::draw(std::uint64_t seed) const {
     d.magnitude = d.magnitude_noise / floor_in_noise;
   }
   for (std::size_t k = 0; k < r.effects.size(); ++k) d.hidden.push_back(sized_effect(r, k, size));
-  d.runs = simulate(r, specs, size, specs.size());
+  try {
+    d.runs = simulate(r, specs, size, specs.size());
+  } catch (const sim::RunFaulted& e) {  // say what the draw hid, and how large
+    char size_text[48];
+    std::snprintf(size_text, sizeof size_text, " at %.1fx the floor: ", d.magnitude);
+    throw sim::RunFaulted(d.family + ", " + d.form + size_text + e.what());
+  }
   return d;
 }
 
