@@ -60,6 +60,7 @@ struct ZooScore {
   Rate unexplained;                            // out-of-catalogue sets answered `unexplained` (>= 3x)
   Rate mixtures_found;                         // both effects named in two rounds
   Rate fit_close;                              // among correct verdicts
+  Rate fit_close_3x;                           // the same, among those at >= 3x the floor (reported, no target)
   double median_generate_s = 0.0, median_diagnose_s = 0.0;
 };
 
