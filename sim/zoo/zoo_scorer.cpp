@@ -132,40 +132,46 @@ void summarise(ZooScore& z) {
   z.median_diagnose_s = median(diagnose);
 }
 
+namespace {
+
+// Two lines per draw on stderr (--verbose).
+void print_draw(const DrawScore& s, const ZooDraw& draw) {
+  const bool named = s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
+  std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
+               static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
+               s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then --with " + s.first_named + ": " + s.second_verdict + " ").c_str(),
+               s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
+               s.generate_s, s.diagnose_s);
+  std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
+               s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
+               1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
+  if (draw.component_magnitudes.size() == 2) {
+    std::fprintf(stderr, "     each effect alone: %.1fx and %.1fx the true floor\n", draw.component_magnitudes[0], draw.component_magnitudes[1]);
+  }
+}
+
+}  // namespace
+
 ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
   ZooScore z;
   for (int k = 0; k < o.draws; ++k) {
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t seed = o.first_seed + static_cast<std::uint64_t>(k);
-    ZooDraw draw;
     try {
-      draw = generator.draw(seed);
-    } catch (const sim::RunFaulted& e) {
+      const ZooDraw draw = generator.draw(seed);
+      const double generate_s = seconds_since(start);
+      DrawScore s = score_draw(draw, o.threads);
+      s.generate_s = generate_s;
+      if (o.verbose) print_draw(s, draw);
+      z.draws.push_back(std::move(s));
+    } catch (const sim::RunFaulted& e) {  // the simulated rig could not run it: counted apart
       z.not_run.push_back({seed, e.what()});
       if (o.verbose) std::fprintf(stderr, "draw %llu not run: %s\n", static_cast<unsigned long long>(seed), e.what());
-      continue;
     }
-    const double generate_s = seconds_since(start);
-    DrawScore s = score_draw(draw, o.threads);
-    s.generate_s = generate_s;
-    if (o.verbose) {
-      const bool named = s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
-      std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
-                   static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
-                   s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then --with " + s.first_named + ": " + s.second_verdict + " ").c_str(),
-                   s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
-                   s.generate_s, s.diagnose_s);
-      std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
-                   s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
-                   1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
-      if (draw.component_magnitudes.size() == 2) {
-        std::fprintf(stderr, "     each effect alone: %.1fx and %.1fx the true floor\n", draw.component_magnitudes[0], draw.component_magnitudes[1]);
-      }
-    }
-    z.draws.push_back(std::move(s));
     if (o.verbose && (k + 1) % 10 == 0 && k + 1 < o.draws) {  // a long run cut short still has its figures
       ZooScore so_far;
       so_far.draws = z.draws;
+      so_far.not_run = z.not_run;
       summarise(so_far);
       std::fprintf(stderr, "-- the table so far --\n");
       print_score(so_far, stderr);
