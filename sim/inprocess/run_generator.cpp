@@ -36,9 +36,11 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   if (run.final_status.state != rt::RunState::kDone) {
     // The rig's interlocks stopped it (an effect large enough to overload the load cell or
     // stall the drive does that on a real rig too): say which, for the eye and its settings.
-    throw RunFaulted("simulated run of " + spec.eye_id + " (" + number(spec.velocity_mm_s) + " mm/s, IOP " + number(spec.iop_mmHg) +
-                             " mmHg) ended in " + std::string(rt::to_string(run.final_status.state)) + ": " +
-                             std::string(rt::to_string(run.final_status.fault)) + " at " + number(run.final_status.fault_value));
+    throw RunFaulted("simulated run of " + spec.eye_id + " (" + number(spec.velocity_mm_s) +
+                     " mm/s, IOP " + number(spec.iop_mmHg) + " mmHg) ended in " +
+                     std::string(rt::to_string(run.final_status.state)) + ": " +
+                     std::string(rt::to_string(run.final_status.fault)) + " at " +
+                     number(run.final_status.fault_value));
   }
   model::RunData data;
   data.source = "sim:" + spec.eye_id;

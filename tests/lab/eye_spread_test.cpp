@@ -32,7 +32,8 @@ double mean_estimated_variance(double tau, int counted) {
     std::vector<double> variances(kEyes);
     for (int r = 0; r < kEyes; ++r) {
       variances[r] = 0.02 * 0.02 * (0.5 + r % 3);  // each eye's sampling variance [1]
-      value(r) = 0.05 + 0.2 * design(r, 1) - 0.1 * design(r, 2) + tau * unit(rng) + std::sqrt(variances[r]) * unit(rng);
+      value(r) = 0.05 + 0.2 * design(r, 1) - 0.1 * design(r, 2) + tau * unit(rng) +
+                 std::sqrt(variances[r]) * unit(rng);
     }
     const Eigen::VectorXd fitted = design * design.colPivHouseholderQr().solve(value);
     std::vector<double> deviations(kEyes);
@@ -46,9 +47,12 @@ TEST(EyeSpread, ParametersFittedOnOneValuePerEyeTakeTheirDegreesOfFreedomFromIt)
   constexpr double kTau = 0.1;  // the eyes' true spread of a relative scale [1]
   const double counted = mean_estimated_variance(kTau, 3);
   const double ignored = mean_estimated_variance(kTau, 0);
-  std::printf("tau^2 = %.5f; estimated %.5f with the 3 fitted parameters counted, %.5f without\n", kTau * kTau, counted, ignored);
-  EXPECT_NEAR(counted, kTau * kTau, 0.05 * kTau * kTau) << "unbiased once the fitted parameters are counted";
-  EXPECT_LT(ignored, 0.75 * kTau * kTau) << "6/9 of the truth when they are not (the contrast this test rests on)";
+  std::printf("tau^2 = %.5f; estimated %.5f with the 3 fitted parameters counted, %.5f without\n",
+              kTau * kTau, counted, ignored);
+  EXPECT_NEAR(counted, kTau * kTau, 0.05 * kTau * kTau)
+      << "unbiased once the fitted parameters are counted";
+  EXPECT_LT(ignored, 0.75 * kTau * kTau)
+      << "6/9 of the truth when they are not (the contrast this test rests on)";
 }
 
 TEST(EyeSpread, IsZeroWhenTheDeviationsAreNoLargerThanTheirOwnSamplingError) {
