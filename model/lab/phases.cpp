@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rig::model {
 
@@ -130,6 +131,15 @@ void find_cut_landmarks(const RunData& run, Segmentation& s) {
   }
 }
 
+std::string step_note(const OffsetStep& step) {
+  char text[128];
+  std::snprintf(
+      text, sizeof text,
+      "an offset step of %+.1f mN at %.2f s: the puncture is found on the force without it",
+      step.size_N * 1e3, step.t_s);
+  return text;
+}
+
 Phase insertion_phase(const Segmentation& s, double x) {
   if (x < 0.0) return Phase::kApproach;
   if (!s.punctured || x < s.x_pi_mm) return Phase::kPrecut;
@@ -162,7 +172,17 @@ Segmentation detect_phases(const RunData& run) {
   s.max_depth_mm = run.x_mm[s.insertion_end];
   s.noise_sigma_N = noise_sigma(run.force_N, 0, run.size());
   find_hold(run, s);
-  find_cut_landmarks(run, s);
+  // The puncture is found on the force less the sensor's own offset steps: a downward step
+  // before the puncture was taken for its drop (draw 130043, 2026-11-28).
+  s.offset_steps = find_offset_steps(run, s.noise_sigma_N);
+  if (s.offset_steps.empty()) {
+    find_cut_landmarks(run, s);
+  } else {
+    RunData corrected = run;
+    corrected.force_N = without_steps(run, s.offset_steps);
+    find_cut_landmarks(corrected, s);
+    for (const OffsetStep& step : s.offset_steps) s.notes.push_back(step_note(step));
+  }
   const std::size_t insertion_stop = s.hold_end > s.hold_begin ? s.hold_begin : s.insertion_end + 1;
   for (std::size_t i = 0; i < run.size(); ++i) {
     if (i < insertion_stop) s.phase[i] = insertion_phase(s, run.x_mm[i]);

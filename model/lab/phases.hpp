@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "level_shifts.hpp"
 #include "run_data.hpp"
 
 namespace rig::model {
@@ -25,6 +26,8 @@ struct Segmentation {
   double max_depth_mm = 0.0;
   double noise_sigma_N = 0.0;     // white-noise estimate of the force channel
   bool punctured = false;
+  std::vector<OffsetStep>
+      offset_steps;  // the force channel's zero jumps (level_shifts.hpp), in time order
   std::vector<std::string> notes;
 };
 

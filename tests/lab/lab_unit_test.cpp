@@ -97,6 +97,33 @@ TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
   EXPECT_NEAR(s.noise_sigma_N, 0.0062, 0.0015);
 }
 
+// A load cell's zero that jumps down before the puncture (a connector, a gauge slipping)
+// drops the force by more than the puncture's bar (8 % of the peak) within 0.5 mm, and the
+// detector took it for the puncture (draw 130043, 2026-11-28). The force's slope in
+// displacement goes on unchanged across a sensor step, and the cornea's stiffness is lost at
+// a puncture: the step is found as an offset step and the puncture where it was.
+TEST(Phases, ALevelShiftBeforeThePunctureIsASensorStepNotThePuncture) {
+  RunData run = one_run({});
+  const Segmentation clean = detect_phases(run);
+  ASSERT_TRUE(clean.punctured);
+  EXPECT_TRUE(clean.offset_steps.empty()) << "the puncture itself is no offset step";
+  double peak = 0.0;
+  for (const double f : run.force_N) peak = std::max(peak, f);
+  const double shift_N = -0.15 * peak;  // well past the puncture's drop bar
+  std::size_t at = 0;
+  while (run.x_mm[at] < clean.x_pi_mm - 1.0) ++at;
+  const double at_s = run.t_s[at];
+  for (std::size_t i = 0; i < run.size(); ++i)
+    run.force_N[i] += shift_N / (1.0 + std::exp(-(run.t_s[i] - at_s) / 0.005));
+  const Segmentation s = detect_phases(run);
+  EXPECT_TRUE(s.punctured);
+  EXPECT_NEAR(s.x_pi_mm, clean.x_pi_mm, 0.05)
+      << "the step at " << run.x_mm[at] << " mm is not the puncture";
+  ASSERT_EQ(s.offset_steps.size(), 1U);
+  EXPECT_NEAR(s.offset_steps[0].t_s, at_s, 0.01);
+  EXPECT_NEAR(s.offset_steps[0].size_N, shift_N, 0.1 * std::abs(shift_N));
+}
+
 // 16,000 samples at 1 kHz (a 16 s run), in and out at 2 mm/s, the force nothing but mains
 // pick-up of 4 mN at `hz`.
 RunData mains_only_run(double hz) {
