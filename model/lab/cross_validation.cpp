@@ -3,6 +3,7 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "eye_variation.hpp"
 
@@ -59,6 +60,23 @@ std::vector<double> own_eye_residuals(const Predictor& predictor, const Prepared
 
 std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
 
+// A run's offset steps are found on all its samples, with its phases (level_shifts.hpp). A
+// held-out block must be predicted without its own samples, and all the other blocks tell of
+// a step inside it is that the zero moved somewhere between them: so, to predict the block,
+// a step found in [from_s, to_s] is put at the middle of that span. Empty if none is there.
+std::optional<PreparedRun> steps_blinded(const PreparedRun& run, double from_s, double to_s) {
+  const auto& steps = run.seg.offset_steps;
+  const bool inside = std::any_of(steps.begin(), steps.end(), [&](const OffsetStep& s) {
+    return s.t_s >= from_s && s.t_s <= to_s;
+  });
+  if (!inside) return std::nullopt;
+  PreparedRun blinded = run;
+  for (OffsetStep& s : blinded.seg.offset_steps) {
+    if (s.t_s >= from_s && s.t_s <= to_s) s.t_s = 0.5 * (from_s + to_s);
+  }
+  return blinded;
+}
+
 // One time block of a run held out: the residuals of its samples (rows `test`, in order) for
 // a fit on the other blocks; per-run coefficients are those of the training blocks.
 void block_residuals(const Predictor& predictor, const PreparedRun& run, const PreparedRun& train, const ModelParams& params,
@@ -94,12 +112,18 @@ CvResult within_run(const PreparedRun& run, const TrainedModelFor& model_for) {
       (held_out ? test : train.fit_rows).push_back(run.analysed[k]);
       if (held_out) test_at.push_back(k);
     }
+    if (!test.empty()) {
+      if (auto blinded =
+              steps_blinded(train, run.data->t_s[test.front()], run.data->t_s[test.back()]))
+        train = std::move(*blinded);
+    }
     pack_fit_rows(train);
     const TrainedModel fold = model_for({&train});
     out.folds.push_back(Fitter(*fold.predictor, {&train}).fit(fold.start));
     out.fold_forms.push_back(fold.forms);
     std::vector<double> block;
-    block_residuals(*fold.predictor, run, train, out.folds.back().params, test, block);
+    block_residuals(*fold.predictor, train, train, out.folds.back().params, test,
+                    block);  // train: the run as its other blocks know it
     for (std::size_t n = 0; n < test_at.size(); ++n) residual[test_at[n]] = block[n];
   }
   add_run(out, std::move(residual));
@@ -112,9 +136,9 @@ CvResult within_run(const PreparedRun& run, const TrainedModelFor& model_for) {
 std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params,
                                        const EyeParams* eye) {
   std::vector<double> prediction;
-  Eigen::MatrixXd X;
+  Eigen::MatrixXd Xall;
   const bool linear = predictor.linear_columns() > 0;
-  predictor.evaluate(run, params, run.analysed, prediction, linear ? &X : nullptr, nullptr, eye);
+  predictor.evaluate(run, params, run.analysed, prediction, linear ? &Xall : nullptr, nullptr, eye);
   const std::size_t n = run.analysed.size();
   std::vector<double> residual(n);
   for (std::size_t k = 0; k < n; ++k) residual[k] = run.data->force_N[run.analysed[k]] - prediction[k];
@@ -123,9 +147,20 @@ std::vector<double> held_out_residuals(const Predictor& predictor, const Prepare
   std::vector<double> out(n);
   for (std::size_t b = 0; b < kBlocks; ++b) {
     std::vector<Eigen::Index> train;
+    double from_s = 1e300, to_s = -1e300;  // the held-out block's time span [s]
     for (std::size_t k = 0; k < n; ++k) {
-      if (block_of(k, n) != b) train.push_back(static_cast<Eigen::Index>(k));
+      const bool held_out = block_of(k, n) == b;
+      if (!held_out) train.push_back(static_cast<Eigen::Index>(k));
+      if (held_out)
+        from_s = std::min(from_s, run.data->t_s[run.analysed[k]]),
+        to_s = std::max(to_s, run.data->t_s[run.analysed[k]]);
     }
+    Eigen::MatrixXd Xb;  // the columns as the other blocks can know them (steps_blinded)
+    if (const auto blinded = steps_blinded(run, from_s, to_s)) {
+      std::vector<double> unused;
+      predictor.evaluate(*blinded, params, run.analysed, unused, &Xb, nullptr, eye);
+    }
+    const Eigen::MatrixXd& X = Xb.size() > 0 ? Xb : Xall;
     const Eigen::MatrixXd Xt = X(train, Eigen::all);
     const Eigen::VectorXd rt = r(train);
     const Eigen::VectorXd beta = solve_linear(Xt, rt);

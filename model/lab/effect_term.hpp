@@ -56,6 +56,9 @@ class EffectTerm {
   virtual int linear_columns() const { return 0; }
   // Linear coefficients per run (instrument effects, default) or shared by all runs.
   virtual bool per_run_coefficients() const { return true; }
+  // What the per-run part costs on `run` in an information criterion: its linear columns,
+  // unless some are identically 0 there (a step the run does not have).
+  virtual int run_parameters(const PreparedRun& /*run*/) const { return linear_columns(); }
   // Whether the data can show this effect at all (e.g. several velocities for a rate term).
   virtual bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const;
 

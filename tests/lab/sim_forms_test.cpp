@@ -9,6 +9,8 @@
 // the sensor's warm-up and the tearing period's power law in the speed.)
 #include <gtest/gtest.h>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -279,6 +281,35 @@ TEST(SimulatedForms, TheSensorsWarmUpIsNotTheLabsFirstOrderThermalDrift) {
                                   [](double t, const double* p) { return p[0] + p[1] * -std::expm1(-t / p[2]); }, b);
   std::printf("sensor_drift:warmup against the lab's thermal %.4f of the drift left over\n", left);
   EXPECT_GT(left, kLeftOver);
+}
+
+// The lab's step form: each run's offset and slope in time and an ideal step at a sample of
+// the run (the zoo samples at 1 kHz), its size fitted. The simulator's step rises over ~20 ms
+// (a logistic of 5 ms); the step is put at every sample within 0.1 s of it and the best kept.
+TEST(SimulatedForms, TheSensorsStepRisesOverMillisecondsUnlikeTheLabsIdealStep) {
+  const EffectSlot s = slot(EffectKind::kSensorDrift, "step");
+  const std::vector<double> ts = grid(0.0, 30.0, 30001);
+  const double centre = 3.0 + 17.0 * s.run_values[1];  // where the simulator puts it [s]
+  double best = 1e300;
+  for (double at = centre - 0.1; at <= centre + 0.1; at += 0.001) {
+    Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();
+    for (const double t : ts) {
+      const Eigen::Vector3d row(1.0, t / 30.0, t >= at ? 1.0 : 0.0);
+      a += row * row.transpose();
+      b += row * forms::drift_N(s, t, 0.0);
+    }
+    const Eigen::Vector3d c = a.ldlt().solve(b);
+    const auto law = [&](double t, const double*) {
+      return c(0) + c(1) * t / 30.0 + (t >= at ? c(2) : 0.0);
+    };
+    best = std::min(
+        best, misfit(
+                  ts, [&](double t) { return forms::drift_N(s, t, 0.0); }, 0.0, law, nullptr));
+  }
+  std::printf("sensor_drift:step against the lab's offset steps %.4f of the step left over\n",
+              best);
+  EXPECT_GT(best, kLeftOver);
 }
 
 // The lab's speed-following tearing: a period P (v / 2 mm/s)^alpha [mm] (stick_slip.hpp).

@@ -76,10 +76,12 @@ std::string selection_note(const FormSelectionInput& in, const FormChoice& choic
 
 }  // namespace
 
-int form_parameter_count(const EffectTerm& term, std::size_t runs) {
+int form_parameter_count(const EffectTerm& term, const std::vector<const PreparedRun*>& runs) {
   int count = 0;
   for (const ParamSpec& s : term.shared_params()) count += s.unit == kFormLabelUnit ? 0 : 1;
-  return count + term.linear_columns() * (term.per_run_coefficients() ? static_cast<int>(runs) : 1);
+  if (!term.per_run_coefficients()) return count + term.linear_columns();
+  for (const PreparedRun* run : runs) count += term.run_parameters(*run);
+  return count;
 }
 
 std::vector<const PreparedRun*> SelectionBaseline::run_pointers() const {
@@ -129,7 +131,8 @@ FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& ba
     const double sse = sse_and_n_effective(predictor, runs, fit.params).first;
     if (!std::isfinite(sse)) continue;
     const double mean_square = std::max(sse / static_cast<double>(std::max<std::size_t>(rows, 1)), 1e-300);
-    choice.bic[static_cast<std::size_t>(f)] = n_eff * std::log(mean_square) + form_parameter_count(*term, runs.size()) * std::log(n_eff);
+    choice.bic[static_cast<std::size_t>(f)] =
+        n_eff * std::log(mean_square) + form_parameter_count(*term, runs) * std::log(n_eff);
   }
   choice.form = static_cast<int>(std::min_element(choice.bic.begin(), choice.bic.end()) - choice.bic.begin());
   choice.note = selection_note(in, choice);

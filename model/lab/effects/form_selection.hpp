@@ -43,7 +43,8 @@ SelectionBaseline fit_selection_baseline(const FormSelectionInput& in);
 
 FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& baseline);
 
-// Parameters a form costs in an information criterion (form labels excluded).
-int form_parameter_count(const EffectTerm& term, std::size_t runs);
+// Parameters a form costs in an information criterion (form labels excluded; per-run
+// coefficients as each run uses them, EffectTerm::run_parameters).
+int form_parameter_count(const EffectTerm& term, const std::vector<const PreparedRun*>& runs);
 
 }  // namespace rig::model::effects
