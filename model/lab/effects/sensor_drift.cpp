@@ -128,6 +128,13 @@ std::string SensorDrift::step_evidence(const EvidenceInput& in) const {
   std::sort(steps.begin(), steps.end(),
             [](const Named& a, const Named& b) { return std::abs(a.size_N) > std::abs(b.size_N); });
   char text[256];
+  if (steps.empty()) {  // the form without a step: a constant per run, said as such
+    std::snprintf(text, sizeof text,
+                  "offset steps of the load cell's zero: no jump in any of the %zu runs is the "
+                  "sensor's, so this form is a constant offset per run",
+                  in.runs.size());
+    return text;
+  }
   std::snprintf(text, sizeof text,
                 "offset steps of the load cell's zero, at the jumps found in each run's own force: "
                 "%zu in %zu of %zu runs",
