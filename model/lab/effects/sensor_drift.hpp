@@ -14,7 +14,8 @@ class SensorDrift final : public FamilyTerm {
  public:
   enum Form { kPolynomial = 0, kThermal, kPiecewiseLinear, kOffsetSteps };
   static constexpr int kKnots = 6;
-  static constexpr int kStepColumns = 3;  // steps a run can have (LevelShiftOptions::max_steps)
+  // Steps a run can have: as many as the detector keeps (more are a process, not steps).
+  static constexpr int kStepColumns = static_cast<int>(LevelShiftOptions{}.max_steps);
   explicit SensorDrift(int form = kPolynomial) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "sensor_drift"; }
