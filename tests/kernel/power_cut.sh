@@ -22,8 +22,10 @@ qemu=""; watcher=""
 # rigd's config and model ride in a second cpio appended to the first (the kernel unpacks both).
 mkdir -p "$work/extra/etc/rig" && cp "$config" "$model" "$work/extra/etc/rig/"
 (cd "$work/extra" && find . | cpio -o -H newc --quiet | gzip -1 >> "$work/initrd.gz")
+# 256 MiB: with the log copied only between runs (docs/faults.md power loss item 8), 64 MiB
+# filled up by the ninth boot of a loaded run ("database or disk is full", 2026-12-02).
 disk="$work/archive.img"
-truncate -s 64M "$disk" && mkfs.ext4 -q -F "$disk"
+truncate -s 256M "$disk" && mkfs.ext4 -q -F "$disk"
 
 boot() {  # boot MODE -> $work/console.log; returns once the VM is cut (MODE=cut) or powered off
   : > "$work/console.log"
