@@ -66,6 +66,10 @@ class EffectTerm {
   // correction, scale of the tissue force, additive force, per-run linear columns.
   virtual void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const;
   virtual double x_shift(const SampleView& s, const double* p) const;
+  // The shift of the deepest point reached so far [mm] (the front Eq. 1's release is measured
+  // from): by default the sample's own shift; a mount's lag there is the lag the tip had
+  // when the carriage was last at its front, not the lag of the force now.
+  virtual double front_shift(const SampleView& s, const double* p) const { return x_shift(s, p); }
   virtual double scale(const SampleView& s, const double* p) const;
   virtual double add(const SampleView& s, const double* p, double force_N) const;
   virtual void design(const SampleView& s, const double* p, double* row) const;
@@ -73,6 +77,10 @@ class EffectTerm {
   // Several starting points for the shared parameters (multimodal ones: periods,
   // frequencies); the lab keeps the best before refining.
   virtual std::vector<std::vector<double>> starts() const;
+  // Whether the starts must each be fitted (baseline and eyes with them) before one is kept:
+  // a start in a valley the baseline's own parameters have to move into looks worse than
+  // the others at the baseline's values, and picking by the unfitted error never tries it.
+  virtual bool fit_each_start() const { return false; }
   // The evidence in words, from the fitted parameters.
   virtual std::string evidence(const EvidenceInput& in) const = 0;
   // Whether the fitted form can be told apart from a smooth misfit of the baseline over

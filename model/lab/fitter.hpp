@@ -36,6 +36,10 @@ struct BaselineParam {
 };
 const std::vector<BaselineParam>& baseline_parameters();
 
+// Evaluations of the short fit that scores one start of a term that fits each start
+// (EffectTerm::fit_each_start): enough to reach the start's valley, a third of a full fit.
+inline constexpr int kStartProbeEvaluations = 100;
+
 class Fitter {
  public:
   Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline = true,

@@ -33,12 +33,13 @@ ModelParams ModelFamily::start(const std::vector<const PreparedRun*>& runs) cons
     const auto starts = owned_[k]->starts();
     if (starts.size() < 2) continue;
     const Fitter scorer(*predictor_, runs);
+    const bool fitted = owned_[k]->fit_each_start();
     double best = INFINITY;  // score each start by the fit-row error with everything else fixed
-    for (const auto& candidate : starts) {
+    for (const auto& candidate : starts) {  // ... or after a short fit from it (fit_each_start)
       ModelParams trial = p;
       trial.shared[k] = candidate;
-      const double sse = scorer.sse(trial);
-      if (sse < best) best = sse, p.shared[k] = candidate;
+      const double error = fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
+      if (error < best) best = error, p.shared[k] = candidate;
     }
   }
   return p;

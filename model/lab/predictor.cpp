@@ -64,17 +64,20 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
     const SampleInputs& in = packed ? run.fit_inputs[n] : run.inputs[i];
     SampleView s{&run, i, in.x_mm, in.t_s, in.force_N, in.velocity_mm_s, in.hold_s, 0.0, in.phase};
     s.inputs = &in;
-    s.inserted_mm = std::max(0.0, std::min(s.x_mm, in.front_mm) - x_pi);
-    s.after_puncture = in.front_mm >= x_pi;
-    s.cutting = s.after_puncture && s.x_mm < x_c && (s.phase != Phase::kHold && s.phase != Phase::kRetraction);
     s.x_pi_mm = x_pi;
-    double shift = 0.0;
-    double scale = 1.0;
+    double shift = 0.0;        // of the tip now [mm]
+    double front_shift = 0.0;  // of the tip's deepest point so far [mm]
     for (std::size_t k = 0; k < terms_.size(); ++k) {
       shift += terms_[k]->x_shift(s, p.shared[k].data());
-      scale *= terms_[k]->scale(s, p.shared[k].data());
+      front_shift += terms_[k]->front_shift(s, p.shared[k].data());
     }
-    double force = m.baseline(s.x_mm - shift, in.front_mm - shift, depths) * scale;
+    const double tip_front_mm = in.front_mm - front_shift;  // where the blade has been (Eq. 1's phases)
+    s.inserted_mm = std::max(0.0, std::min(s.x_mm - shift, tip_front_mm) - x_pi);
+    s.after_puncture = tip_front_mm >= x_pi;
+    s.cutting = s.after_puncture && s.x_mm - shift < x_c && (s.phase != Phase::kHold && s.phase != Phase::kRetraction);
+    double scale = 1.0;
+    for (std::size_t k = 0; k < terms_.size(); ++k) scale *= terms_[k]->scale(s, p.shared[k].data());
+    double force = m.baseline(s.x_mm - shift, tip_front_mm, depths) * scale;
     if (tissue != nullptr) (s.after_puncture ? tissue->cut : tissue->precut)[n] = force;
     if (eye != nullptr) force *= 1.0 + (s.after_puncture ? eye->cut_scale : eye->precut_scale);
     double added = 0.0;

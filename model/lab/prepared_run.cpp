@@ -80,13 +80,35 @@ void derive_pauses(PreparedRun& p) {
   close_stop(end);
 }
 
+// The measured force when the carriage was last at its front [N]: while it advances or is
+// held there, the force now; once it backs off, the force it left the front with. Both
+// averaged over +-5 samples (as the front is). A mount's tip stays behind the carriage by
+// the lag of that force, so this is where the tip's own front is (rig_compliance).
+void derive_front_force(PreparedRun& p) {
+  constexpr double kAtFront_mm = 0.01;  // the front's own tolerance for a noisy held position
+  const RunData& r = *p.data;
+  p.front_force_N.assign(r.size(), 0.0);
+  double deepest_mean = -1e9;
+  double at_front = 0.0;
+  for (std::size_t i = 0; i < r.size(); ++i) {
+    const std::size_t lo = i >= 5 ? i - 5 : 0;
+    const std::size_t hi = std::min(r.size(), i + 6);
+    double x = 0.0, f = 0.0;
+    for (std::size_t j = lo; j < hi; ++j) x += r.x_mm[j], f += r.force_N[j];
+    x /= static_cast<double>(hi - lo);
+    deepest_mean = std::max(deepest_mean, x);
+    if (x >= deepest_mean - kAtFront_mm) at_front = f / static_cast<double>(hi - lo);
+    p.front_force_N[i] = at_front;
+  }
+}
+
 // Last step of prepare_run: every per-sample input final, copy them side by side.
 void pack_inputs(PreparedRun& p, const std::vector<double> (&grid_cycles)[2]) {
   const RunData& r = *p.data;
   p.inputs.resize(r.size());
   for (std::size_t i = 0; i < r.size(); ++i) {
     SampleInputs& in = p.inputs[i];
-    in = {r.x_mm[i], r.t_s[i], r.force_N[i], p.velocity_mm_s[i], p.hold_s[i], p.front_mm[i], {0.0, 0.0}, p.seg.phase[i]};
+    in = {r.x_mm[i], r.t_s[i], r.force_N[i], p.velocity_mm_s[i], p.hold_s[i], p.front_mm[i], {0.0, 0.0}, p.seg.phase[i], p.front_force_N[i]};
     for (int k = 0; k < 2; ++k) in.grid_cycles[k] = i < grid_cycles[k].size() ? grid_cycles[k][i] : std::nan("");
   }
   const std::size_t parked = std::min<std::size_t>(r.size(), 20);
@@ -154,6 +176,7 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   p.velocity_cmd_mm_s = run.number("velocity_mm_s").value_or(measured_insertion_velocity(p));
   if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
   derive_pauses(p);
+  derive_front_force(p);
   pack_inputs(p, tracked);
   pack_fit_rows(p);
   for (const auto& [key, text] : run.meta) {

@@ -23,6 +23,7 @@ struct SampleInputs {
   double front_mm = 0.0;       // as `front_mm` below
   double grid_cycles[2] = {0.0, 0.0};  // the 50 and 60 Hz grid's tracked phase [cycles] (grid_line.hpp), NaN before contact
   Phase phase = Phase::kApproach;
+  double front_force_N = 0.0;  // as `front_force_N` below
 };
 
 struct PreparedRun {
@@ -34,6 +35,7 @@ struct PreparedRun {
   std::vector<double> stop_length_s;  // ... and that stop's length [s]
   std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
   std::vector<double> front_mm;       // deepest displacement so far
+  std::vector<double> front_force_N;  // measured force when the carriage was last at its front [N]
   std::vector<std::size_t> analysed;  // from first contact to the end
   std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
   std::vector<SampleInputs> inputs;   // per sample: a copy of the above, packed for the fits (set last)

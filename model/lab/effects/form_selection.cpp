@@ -49,13 +49,14 @@ std::pair<double, double> sse_and_n_effective(const Predictor& predictor, const 
 void pick_start(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const EffectTerm& term, ModelParams& p) {
   const auto starts = term.starts();
   if (starts.size() < 2) return;
-  const Fitter scorer(predictor, runs, false);
+  const bool fitted = term.fit_each_start();
+  const Fitter scorer(predictor, runs, fitted);  // fitted starts move the baseline with them
   double best = std::numeric_limits<double>::infinity();
   for (const auto& candidate : starts) {
     ModelParams trial = p;
     trial.shared.back() = candidate;
-    const double sse = scorer.sse(trial);
-    if (sse < best) best = sse, p.shared.back() = candidate;
+    const double error = fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
+    if (error < best) best = error, p.shared.back() = candidate;
   }
 }
 

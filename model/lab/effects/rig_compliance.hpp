@@ -5,8 +5,10 @@
 //   linear       shift = c F                      (a spring)
 //   polynomial   shift = c1 F + c2 F^2            (softening c2 > 0, stiffening c2 < 0)
 //   stiffening   shift = c F / (1 + F / F0)       (a hardening mount: stiffness grows with load)
-// A dead band at reversal (backlash) is not in the family: the model's release after the
-// deepest point depends on the distance behind it, which a displacement shift cannot change.
+// The release after the deepest point is measured from the tip's own front, the carriage's
+// front less the lag of the force the carriage left it with (PreparedRun::front_force_N):
+// backing off, the carriage unloads the mount before the tip moves, by the same lag for
+// every eye.
 #include "family_term.hpp"
 
 namespace rig::model::effects {
@@ -20,7 +22,9 @@ class RigCompliance final : public FamilyTerm {
   std::string meaning() const override { return "the keratome tip lags the measured carriage by F/k (compliant mount)"; }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
+  bool fit_each_start() const override;
   double x_shift(const SampleView& s, const double* p) const override;
+  double front_shift(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
   double lag(double force_N, const double* p) const;
 };
