@@ -16,15 +16,27 @@ limit_ms="$(sed -n 's/^flush_interval_ms *= *\([0-9]*\).*/\1/p' "$config")"
 here="$(cd "$(dirname "$0")" && pwd)"
 command -v qemu-system-x86_64 >/dev/null || { echo "SKIP: qemu-system-x86_64 is not installed"; exit 77; }
 [ -f "$cache/ready" ] || { echo "FAIL: $cache is not prepared (prepare_kernel.sh)"; exit 1; }
-work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"; trap 'kill -9 $qemu $watcher 2>/dev/null || true; rm -rf "$work"' EXIT
-qemu=""; watcher=""
+work="$(mktemp -d "${TMPDIR:-/tmp}/rig-power.XXXXXX")"
+qemu=""; watcher=""; disk_dir=""; cpu_group=""
+cleanup() {
+  kill -9 $qemu $watcher 2>/dev/null || true; wait $qemu $watcher 2>/dev/null || true
+  rm -rf "$work" "$disk_dir"
+  [ -z "$cpu_group" ] || { echo $$ > "$(dirname "$cpu_group")/cgroup.procs"; rmdir "$cpu_group"; } 2>/dev/null || true
+}
+trap cleanup EXIT
 "$here/build_initramfs.sh" "$cache" "$work" "$here/scenario_power.sh" "virtio_pci virtio_blk ext4 crc32c_generic" "$@" "$(command -v sqlite3)" "$(command -v chrt)" "$(command -v socat)"
 # rigd's config and model ride in a second cpio appended to the first (the kernel unpacks both).
 mkdir -p "$work/extra/etc/rig" && cp "$config" "$model" "$work/extra/etc/rig/"
 (cd "$work/extra" && find . | cpio -o -H newc --quiet | gzip -1 >> "$work/initrd.gz")
 # 256 MiB: with the log copied only between runs (docs/faults.md power loss item 8), 64 MiB
 # filled up by the ninth boot of a loaded run ("database or disk is full", 2026-12-02).
-disk="$work/archive.img"
+# The VM stands for the rig's own computer, which has a disk of its own: the image lives in host
+# RAM (/dev/shm) where there is room, so a busy host's writers (busy-machine's dsync writes) do
+# not queue the guest's flushes behind theirs. A write QEMU completed is in the image either way
+# and survives its kill -9; what the guest had not yet written is lost, as at a power cut.
+if [ -d /dev/shm ] && [ -w /dev/shm ] && [ "$(df -Pm /dev/shm | awk 'NR == 2 { print $4 }')" -gt 1024 ]; then
+  disk_dir="$(mktemp -d /dev/shm/rig-power-disk.XXXXXX)"; else disk_dir="$work"; fi
+disk="$disk_dir/archive.img"
 truncate -s 256M "$disk" && mkfs.ext4 -q -F "$disk"
 
 boot() {  # boot MODE -> $work/console.log; returns once the VM is cut (MODE=cut) or powered off
@@ -44,13 +56,13 @@ boot() {  # boot MODE -> $work/console.log; returns once the VM is cut (MODE=cut
   # on a 2-core host QEMU's own I/O thread then waits for a core - a 14 ms stall of rigd's loop,
   # 2026-11-28.)
   rm -f "$work/hb.sock" "$work/heartbeat"
-  $qemu_nice qemu-system-x86_64 -accel tcg -smp 2 -m 1G -nographic -no-reboot -nic none \
+  $qemu_nice qemu-system-x86_64 -accel tcg -smp 2 -m 1G $qemu_lock -nographic -no-reboot -nic none \
     -drive "file=$disk,format=raw,if=virtio,cache=writethrough" \
     -chardev "socket,id=hb,path=$work/hb.sock,server=on,wait=off" -serial mon:stdio -serial chardev:hb \
     -kernel "$cache/vmlinux" -initrd "$work/initrd.gz" -append "console=ttyS0 loglevel=3 panic=-1 rigmode=$1" \
     </dev/null > "$work/console.log" 2>&1 &
   qemu=$!
-  python3 "$here/heartbeat_watch.py" "$work/hb.sock" "$qemu" "$work/heartbeat" &
+  $qemu_nice python3 "$here/heartbeat_watch.py" "$work/hb.sock" "$qemu" "$work/heartbeat" &
   watcher=$!
   # Every fifth cut falls while the run is armed (the IOP settling, no samples yet), the others
   # while it cuts; a run that ended before cutting (a fault) is cut as it is.
@@ -112,8 +124,29 @@ judge_loss() {
 }
 
 RANDOM=$seed
-qemu_nice=""; [ "$(nice -n -10 nice 2>/dev/null)" -lt "$(nice)" ] && qemu_nice="nice -n -10"
-echo "QEMU at ${qemu_nice:-the default nice (raising it needs root)}"
+qemu_nice=""; qemu_lock=""; [ "$(nice -n -10 nice 2>/dev/null)" -lt "$(nice)" ] && qemu_nice="nice -n -10"
+# As root, the rig's computer also gets the CPU and memory a computer of its own would have:
+# - a CPU group (cgroup v1 cpu.shares 262144, v2 cpu.weight 10000: ~256x an ordinary process's
+#   share; nice -10 alone is ~9x a spinner's, and two spinners, a dsync writer and a memory
+#   churner still took the vCPUs' cores for tens of ms, docs/faults.md power loss item 11).
+#   Not real-time priority: under TCG the VM keeps both cores busy by itself (QEMU's main loop
+#   ~70-100 % of a core, each vCPU 40-70 %), so SCHED_RR hit the kernel's
+#   throttling of real-time tasks (50 ms of every second go to ordinary tasks) and its 100 ms
+#   round-robin slices (a QEMU I/O thread waiting behind both vCPUs): 4 of 12 cuts over, worst
+#   103.5 ms (2026-12-02).
+# - its RAM locked (-overcommit mem-lock=on), so the host's memory churn cannot page it out.
+if [ -n "$qemu_nice" ]; then
+  qemu_lock="-overcommit mem-lock=on"
+  for root in /sys/fs/cgroup/cpu /sys/fs/cgroup; do
+    if [ -w "$root/cgroup.procs" ] && { [ -f "$root/cpu.shares" ] || grep -qw cpu "$root/cgroup.subtree_control" 2>/dev/null; }; then
+      cpu_group="$root/rig-power.$$"; mkdir "$cpu_group" 2>/dev/null || { cpu_group=""; continue; }
+      { echo 262144 > "$cpu_group/cpu.shares" || echo 10000 > "$cpu_group/cpu.weight"; } 2>/dev/null || true
+      echo $$ > "$cpu_group/cgroup.procs" && break   # QEMU and the heartbeat reader inherit it
+      rmdir "$cpu_group"; cpu_group=""
+    fi
+  done
+fi
+echo "QEMU at ${qemu_nice:-the default nice (raising it needs root)}${cpu_group:+, in CPU group $cpu_group}${qemu_lock:+, RAM locked}, disk image in $disk_dir"
 start=$(date +%s.%N)
 # The limit's margin: one loop period (1 kHz). lost_max counts the time from the last sample the
 # loop produced to the cut, which holds no sample: 50 samples lost <=> lost_max < 51 ms.

@@ -58,7 +58,11 @@ done
 [ -n "$run" ] || { cat /tmp/rigd.log; exit 1; }
 # The host cuts the power at a random moment after the first of these lines: the loop's cycle
 # and state, then the run's last sample committed to the archive as a reader sees it (WAL: only
-# committed transactions), which must survive the cut.
+# committed transactions), which must survive the cut. The poller is the test's instrument, not
+# part of the rig: at nice 19 (wget and sqlite3 inherit it) it yields the vCPU to rigd's
+# recorder. Until 2026-12-02 it ran at rigd's priority without a pause, and rigd's commits
+# started 20 ms late at the median of boots (worst 130 ms; docs/faults.md power loss item 12).
+renice -n 19 -p $$ > /dev/null || exit 1
 while :; do
   status=$(wget -qO- "$RIG_API/api/status")
   committed=$(sqlite3 "$archive" "SELECT IFNULL(MAX(idx), -1) FROM samples WHERE run_id = $run" 2>/dev/null || echo -1)
