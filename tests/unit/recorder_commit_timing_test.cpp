@@ -144,7 +144,9 @@ constexpr auto kDrain = std::chrono::milliseconds(2);
 
 TEST(CommitCadence, TheNextCommitStartsEarlyByTheRecentCostSoItsExposureStaysWithinTheInterval) {
   CommitCadence cadence(kInterval, kDrain);
-  const Clock::time_point t0{};
+  Clock::time_point warm{};  // kRecent cheap commits measured: the fresh assumption is gone
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, warm += kInterval) cadence.after_commit(warm, warm, warm);
+  const Clock::time_point t0 = warm + 1s;
   // Due at t0, began 5 ms late, took 10 ms: the next is due 50 - 2 - 15 ms after it began.
   const Clock::time_point began = t0 + 5ms;
   const Clock::time_point next = cadence.after_commit(t0, began, began + 10ms);
@@ -159,6 +161,22 @@ TEST(CommitCadence, TheNextCommitStartsEarlyByTheRecentCostSoItsExposureStaysWit
   Clock::time_point t = t0 + 2s;
   for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 1ms);
   EXPECT_EQ(cadence.recent_cost(), 1ms);
+}
+
+TEST(CommitCadence, AFreshCadenceAssumesACommitCostsHalfTheIntervalUntilItHasMeasuredSome) {
+  CommitCadence cadence(kInterval, kDrain);
+  EXPECT_EQ(cadence.recent_cost(), kInterval / 2);
+  const Clock::time_point t0{};
+  // A fresh rigd checks at t0 and finds nothing; the first samples come right after. Their
+  // commit is due 50 - 2 - 25 ms later, so one of 20 ms (a commit under TCG) still ends within
+  // the interval. With a margin of 0 it was due at 48 ms and ended at 68.
+  const Clock::time_point first = cadence.after_empty_check(t0);
+  EXPECT_EQ(first - t0, 23ms);
+  EXPECT_LE((first + 20ms) - t0, kInterval - kDrain);
+  // Once kRecent commits are measured the assumption is gone.
+  Clock::time_point t = t0 + 1s;
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 3ms);
+  EXPECT_EQ(cadence.recent_cost(), 3ms);
 }
 
 TEST(CommitCadence, NoCommitCostlierThanTheRecentOnesExposesMoreThanTheInterval) {
