@@ -99,6 +99,16 @@ class EffectTerm {
   // they explain part of what would be eye variation, and take that many degrees of freedom
   // from the eyes' spread (eye_params.hpp). Shapes within a run take none.
   virtual EyeDof eye_level_params(const double* /*p*/) const { return {}; }
+
+  // The shared parameters of this term that are linear coefficients of the run's puncture
+  // depth on numbers fixed per run (x_pi + sum_j p[index_j] * value_j [mm]): their indices
+  // into shared_params(), and `run`'s regressors in the same order into `values`. The lab
+  // places such a law from the eyes' own puncture shifts before the fit (puncture_law.hpp):
+  // the error is flat in these slopes between fit rows. None by default.
+  virtual std::vector<std::size_t> puncture_regressors(const PreparedRun& /*run*/, std::vector<double>& values) const {
+    values.clear();
+    return {};
+  }
 };
 
 }  // namespace rig::model

@@ -175,6 +175,17 @@ EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const Mode
   return estimate_run(predictor, run, p, beta).eye;
 }
 
+std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+                                          const std::vector<Eigen::VectorXd>& betas) {
+  std::vector<OwnShift> out;
+  const Eigen::VectorXd none;
+  for (std::size_t r = 0; r < runs.size(); ++r) {
+    const RunEstimate e = estimate_run(predictor, *runs[r], p, r < betas.size() ? betas[r] : none);
+    out.push_back({e.eye.x_pi_mm, e.var_shift});
+  }
+  return out;
+}
+
 double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
                        const EyeSpread& spread) {
   if (!spread.any()) return 0.0;

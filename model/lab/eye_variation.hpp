@@ -47,6 +47,17 @@ EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const Pr
 // instrument coefficients `beta` (empty if none). For the within-eye CV channel.
 EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta);
 
+// Each run's own puncture shift, unpenalised (step 1: no population to shrink toward) [mm],
+// and its sampling variance [mm^2] (infinite where the run says nothing of its depth), given
+// the shared parameters and the instrument coefficients `betas` (aligned with runs; empty
+// vectors if none). For a law of the puncture depth fitted on the eyes (puncture_law.hpp).
+struct OwnShift {
+  double shift_mm = 0.0;
+  double variance_mm2 = 0.0;
+};
+std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+                                          const std::vector<Eigen::VectorXd>& betas);
+
 double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
                        const EyeSpread& spread);
 

@@ -39,6 +39,9 @@ const std::vector<BaselineParam>& baseline_parameters();
 // Evaluations of the short fit that scores one start of a term that fits each start
 // (EffectTerm::fit_each_start): enough to reach the start's valley, a third of a full fit.
 inline constexpr int kStartProbeEvaluations = 100;
+// Runs below which no law of the puncture depth is placed (a level and two slopes need a
+// fourth run to leave the eyes a spread).
+inline constexpr std::size_t kMinLawRuns = 4;
 
 class Fitter {
  public:
@@ -67,6 +70,9 @@ class Fitter {
   // (gamma) and per-run ones (betas) solved jointly by alternating least squares.
   void evaluate_all(const ModelParams& p, const std::vector<EyeParams>& eyes, Eigen::VectorXd* fvec,
                     Eigen::VectorXd& gamma, std::vector<Eigen::VectorXd>& betas) const;
+  // The first fit, eyes at the population: with a law of the puncture depth in the terms,
+  // placed from the eyes' own shifts first (puncture_law.hpp).
+  FitResult population_fit(const ModelParams& start, int max_evaluations) const;
   // Levenberg-Marquardt over the shared parameters, the eyes held.
   FitResult minimise(const ModelParams& start, const std::vector<EyeParams>& eyes, int max_evaluations) const;
   ModelParams unpack(const Eigen::VectorXd& u, const ModelParams& start) const;

@@ -50,6 +50,16 @@ void CovariateScaling::adjust_model(const PreparedRun& run, const double* p, Con
   model.x_pi_shift += p[0] * z + p[1] * z * z;
 }
 
+// The puncture form's slope and curvature are the coefficients of z and z^2 [mm per spread,
+// per spread squared]: a law the lab can place from the eyes' own shifts (puncture_law.hpp).
+std::vector<std::size_t> CovariateScaling::puncture_regressors(const PreparedRun& run, std::vector<double>& values) const {
+  values.clear();
+  if (form_ != kPunctureShift) return {};
+  const double z = z_of(run.covariate(key_, 0).value_or(range_.mean));
+  values = {z, z * z};
+  return {0, 1};
+}
+
 double CovariateScaling::scale(const SampleView& s, const double* p) const {
   if (form_ == kPunctureShift) return 1.0;
   const double z = z_of(s.run->covariate(key_, s.i).value_or(range_.mean));

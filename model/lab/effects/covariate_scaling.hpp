@@ -31,6 +31,7 @@ class CovariateScaling final : public FamilyTerm {
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
   EyeDof eye_level_params(const double* p) const override;
+  std::vector<std::size_t> puncture_regressors(const PreparedRun& run, std::vector<double>& values) const override;
   const std::string& key() const { return key_; }
   const CovariateRange& range() const { return range_; }
 

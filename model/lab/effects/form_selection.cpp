@@ -7,6 +7,7 @@
 #include "effect_util.hpp"
 #include "family_term.hpp"
 #include "fitter.hpp"
+#include "puncture_law.hpp"
 
 namespace rig::model::effects {
 namespace {
@@ -58,6 +59,36 @@ void pick_start(const Predictor& predictor, const std::vector<const PreparedRun*
     const double error = fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
     if (error < best) best = error, p.shared.back() = candidate;
   }
+}
+
+// A form's start on the baseline's fit: Eq. 1's parameters, and the baseline's terms where
+// they are these (a term in another form keeps its start).
+ModelParams start_on_baseline(const Predictor& predictor, const SelectionBaseline& baseline) {
+  ModelParams p = predictor.initial_params();
+  p.base = baseline.fit.base;
+  for (std::size_t k = 0; k < baseline.fit.shared.size() && k + 1 < p.shared.size(); ++k) {
+    if (p.shared[k].size() == baseline.fit.shared[k].size()) p.shared[k] = baseline.fit.shared[k];
+  }
+  return p;
+}
+
+// A form's start on the model's own values: Eq. 1's from the model, the baseline's terms at
+// their start values (as the baseline's own fit starts).
+ModelParams start_on_model(const Predictor& predictor, const FormSelectionInput& in) {
+  ModelParams p = predictor.initial_params();
+  for (std::size_t k = 0; k < in.base_params.size() && k + 1 < p.shared.size(); ++k) {
+    if (in.base_params[k].size() == p.shared[k].size()) p.shared[k] = in.base_params[k];
+  }
+  return p;
+}
+
+// The form fitted from `p` with the baseline (its best start first): the sum of squares at
+// the fit rows [N^2]. The baseline is refitted with the form: held at its own fit, it favours
+// the forms flexible enough to make up for what it absorbed of the effect.
+double form_sse(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const EffectTerm& term, ModelParams p) {
+  pick_start(predictor, runs, term, p);
+  const FitResult fit = Fitter(predictor, runs).fit(p, kMaxEvaluations);
+  return sse_and_n_effective(predictor, runs, fit.params).first;
 }
 
 std::string selection_note(const FormSelectionInput& in, const FormChoice& choice) {
@@ -119,17 +150,11 @@ FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& ba
     std::vector<const EffectTerm*> terms = in.base_terms;
     terms.push_back(term.get());
     const Predictor predictor(*in.model, terms);
-    ModelParams p = predictor.initial_params();
-    p.base = baseline.fit.base;
-    // Only where the baseline's terms are these (a term in another form keeps its start).
-    for (std::size_t k = 0; k < baseline.fit.shared.size() && k + 1 < p.shared.size(); ++k) {
-      if (p.shared[k].size() == baseline.fit.shared[k].size()) p.shared[k] = baseline.fit.shared[k];
-    }
-    pick_start(predictor, runs, *term, p);
-    // The baseline is refitted with the form: held at its own fit, it favours the forms
-    // flexible enough to make up for what it absorbed of the effect.
-    const FitResult fit = Fitter(predictor, runs).fit(p, kMaxEvaluations);
-    const double sse = sse_and_n_effective(predictor, runs, fit.params).first;
+    double sse = form_sse(predictor, runs, *term, start_on_baseline(predictor, baseline));
+    // A law of the puncture depth (puncture_law.hpp) is also fitted from the model's own
+    // values, the law placed there: the baseline's puncture drop may have run to its bound,
+    // where no fit moves it back, and the eyes' shifts then absorb what the law misses.
+    if (has_puncture_law(predictor, runs)) sse = std::min(sse, form_sse(predictor, runs, *term, start_on_model(predictor, in)));
     if (!std::isfinite(sse)) continue;
     const double mean_square = std::max(sse / static_cast<double>(std::max<std::size_t>(rows, 1)), 1e-300);
     choice.bic[static_cast<std::size_t>(f)] =

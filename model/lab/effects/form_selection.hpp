@@ -5,6 +5,8 @@
 // effective one of the baseline's residuals (the same for every form), the parameter count
 // the form's own: shared parameters + linear columns x runs (per-run columns) or x 1.
 // For speed the fits use at most 8 runs, evenly spread, and 300 rows per run.
+// A form with a law of the puncture depth (EffectTerm::puncture_regressors) is also fitted
+// from the model's own values with the law placed (puncture_law.hpp), and keeps the better fit.
 #include <functional>
 #include <memory>
 #include <string>
