@@ -24,6 +24,7 @@ struct SampleInputs {
   double grid_cycles[2] = {0.0, 0.0};  // the 50 and 60 Hz grid's tracked phase [cycles] (grid_line.hpp), NaN before contact
   Phase phase = Phase::kApproach;
   double front_force_N = 0.0;  // as `front_force_N` below
+  double mean_force_N = 0.0;   // as `mean_force_N` below
 };
 
 struct PreparedRun {
@@ -36,6 +37,7 @@ struct PreparedRun {
   std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<double> front_force_N;  // measured force when the carriage was last at its front [N]
+  std::vector<double> mean_force_N;   // measured force averaged over +-5 samples [N] (a mount's lag follows it)
   std::vector<std::size_t> analysed;  // from first contact to the end
   std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
   std::vector<SampleInputs> inputs;   // per sample: a copy of the above, packed for the fits (set last)
