@@ -2,11 +2,9 @@
 // the bench does. Part of test_lab_zoo (label lab, release tree): one diagnosis, ~1 min optimised.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <string>
 
-#include "diagnosis.hpp"
-#include "zoo_scorer.hpp"
+#include "zoo_draw_diagnosis.hpp"
 
 namespace rig::zoo {
 namespace {
@@ -18,16 +16,10 @@ namespace {
 // what it missed, and the candidate's floor was the eyes': `unexplained` (2026-11-28). The law
 // is now placed from the eyes' own shifts before their spread is estimated (puncture_law.hpp).
 TEST(BlindZoo, ACovariateThatMovesThePunctureIsNamedAndTheEyesKeepOnlyTheirOwnShift) {
-  const ZooDraw draw = ZooGenerator().draw(160009);
-  ASSERT_EQ(draw.family, "covariate:post_mortem_h");
-  ASSERT_EQ(draw.form, "covariate:puncture_shift");
-  model::DiagnoseOptions options;
-  options.threads = 2;
-  const model::Diagnosis d = model::diagnose(model::ForceModel::paper_interpreted(), draw.runs, options);
+  const model::Diagnosis d = diagnose_zoo_draw(160009, "covariate:post_mortem_h", "covariate:puncture_shift");
   EXPECT_EQ(d.verdict, "covariate:post_mortem_h");
-  const auto covariate = std::find_if(d.candidates.begin(), d.candidates.end(),
-                                      [](const model::CandidateResult& c) { return c.effect == "covariate:post_mortem_h"; });
-  ASSERT_NE(covariate, d.candidates.end());
+  const model::CandidateResult* covariate = find_candidate(d, "covariate:post_mortem_h");
+  ASSERT_NE(covariate, nullptr);
   EXPECT_NE(covariate->evidence.find("moves the puncture"), std::string::npos) << covariate->evidence;
   // The eyes keep their own shift: the simulator's eyes spread by 0.12 mm (PhysicsParams
   // eye_puncture_sigma_mm). Before the law was placed the verdict was `unexplained` and the

@@ -2,11 +2,9 @@
 // Part of test_lab_zoo (label lab, release tree): one diagnosis, ~40 s optimised.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <string>
 
-#include "diagnosis.hpp"
-#include "zoo_scorer.hpp"
+#include "zoo_draw_diagnosis.hpp"
 
 namespace rig::zoo {
 namespace {
@@ -17,18 +15,10 @@ namespace {
 // followed a jump: `unexplained` (2026-11-29). The puncture is now found on the force less the
 // run's offset steps (level_shifts.hpp), and the family's step form puts a step at each.
 TEST(BlindZoo, ASensorsOffsetStepIsNamedWithTheStepForm) {
-  const ZooDraw draw = ZooGenerator().draw(220011);
-  ASSERT_EQ(draw.family, "sensor_drift");
-  ASSERT_EQ(draw.form, "sensor_drift:step");
-  model::DiagnoseOptions options;
-  options.threads = 2;
-  const model::Diagnosis d =
-      model::diagnose(model::ForceModel::paper_interpreted(), draw.runs, options);
+  const model::Diagnosis d = diagnose_zoo_draw(220011, "sensor_drift", "sensor_drift:step");
   EXPECT_EQ(d.verdict, "sensor_drift");
-  const auto drift =
-      std::find_if(d.candidates.begin(), d.candidates.end(),
-                   [](const model::CandidateResult& c) { return c.effect == "sensor_drift"; });
-  ASSERT_NE(drift, d.candidates.end());
+  const model::CandidateResult* drift = find_candidate(d, "sensor_drift");
+  ASSERT_NE(drift, nullptr);
   EXPECT_NE(drift->evidence.find("offset step of"), std::string::npos) << drift->evidence;
 }
 

@@ -4,8 +4,7 @@
 
 #include <string>
 
-#include "diagnosis.hpp"
-#include "zoo_scorer.hpp"
+#include "zoo_draw_diagnosis.hpp"
 
 namespace rig::zoo {
 namespace {
@@ -16,12 +15,7 @@ namespace {
 // noise times that compliance: the family gained 17.8 % within eyes (bar 40 %), `unexplained`.
 // The lag now follows the force averaged over +-5 samples (PreparedRun::mean_force_N).
 TEST(BlindZoo, ASofteningMountIsNamedRigCompliance) {
-  const ZooDraw draw = ZooGenerator().draw(290008);
-  ASSERT_EQ(draw.family, "rig_compliance");
-  ASSERT_EQ(draw.form, "rig_compliance:softening");
-  model::DiagnoseOptions options;
-  options.threads = 2;
-  const model::Diagnosis d = model::diagnose(model::ForceModel::paper_interpreted(), draw.runs, options);
+  const model::Diagnosis d = diagnose_zoo_draw(290008, "rig_compliance", "rig_compliance:softening");
   EXPECT_EQ(d.verdict, "rig_compliance");
 }
 
