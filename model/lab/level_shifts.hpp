@@ -4,12 +4,18 @@
 // drop. A jump is told from the tissue by what the force does around it: a straight line in
 // time is fitted on each side of every sample (windows of kWindow_s, leaving kGap_s on each
 // side for the jump's own width), and a jump is where the two lines disagree at the sample by
-// far more than their noise. It is a sensor offset, not the tissue, when the force's slope in
-// displacement goes on unchanged across it (the puncture loses the intact cornea's
-// stiffness, a release at reversal ends the load), when the carriage stands at it (a tissue
-// at rest relaxes smoothly, it does not jump), or when it jumps up while the blade advances
-// (a cut does not add load in a jump). Used by the phase detector (the puncture is found on
-// the force less these steps) and by sensor_drift's step form (a column per step).
+// far more than their noise, and most samples on each side stand off the other side's line
+// by at least half the jump (a dip of a few ms pulls a line, not the median). It is a sensor
+// offset, not the tissue, when the force's slope in displacement goes on unchanged across it
+// (the puncture loses the intact cornea's stiffness, a release at reversal ends the load;
+// slopes compared over 0.4 mm of travel each side), when the carriage stands at it (a tissue
+// at rest relaxes smoothly, it does not jump), or when it jumps up as the carriage stops more
+// than 0.1 s after it (the force stops rising and relaxes). It is the tissue's when the
+// carriage starts, reverses or parks at it, stops within 0.1 s of it (a rate law follows the
+// speed), has advanced less than 0.6 mm since a stop (reloading, or a puncture as the blade
+// sets off), or when the force drops onto its contact-free level and stays flat (the blade
+// let go, or a soft mount snapping the tip through). Used by the phase detector (the puncture
+// is found on the force less these steps) and by sensor_drift's step form (a column per step).
 #include <cstddef>
 #include <vector>
 
