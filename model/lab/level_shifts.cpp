@@ -83,6 +83,11 @@ struct Jump {
   Line left_wide, right_wide;  // reaching kSlopeReach_mm each side, for the slopes in x
 };
 
+// The first sample at or after time `t` [s] (the run's size if none).
+std::size_t first_at(const RunData& run, double t) {
+  return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) - run.t_s.begin());
+}
+
 // Whether the carriage stood less than kReload_mm of advance before sample `i`.
 bool reloading(const RunData& run, std::size_t i) {
   for (std::size_t k = i, m = i; k > 0 && std::abs(run.x_mm[i] - run.x_mm[k]) < kReload_mm; --k) {
@@ -161,21 +166,18 @@ bool is_offset(const Jump& j, const RunData& run, double level, double sigma, co
 // The jump's lines over kSlopeReach_mm of travel each side, kept only where the carriage
 // moves on at the narrow lines' speed (within 30 %: no stop or reversal inside).
 void widen(Jump& j, const Sums& s, const RunData& run, const LevelShiftOptions& o) {
-  const auto first_at = [&](double t) {
-    return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) - run.t_s.begin());
-  };
   const double t = run.t_s[j.i], at = t - run.t_s.front();
   const auto same_speed = [](const Line& wide, const Line& narrow) {
     return std::abs(wide.x_slope - narrow.x_slope) <= 0.3 * std::abs(narrow.x_slope);
   };
   if (std::abs(j.left.x_slope) >= kStanding_mm_s) {
     const double reach = std::clamp(kSlopeReach_mm / std::abs(j.left.x_slope), o.window_s, kMaxSlopeWindow_s);
-    const Line wide = line(s, first_at(t - o.gap_s - reach), first_at(t - o.gap_s), at);
+    const Line wide = line(s, first_at(run, t - o.gap_s - reach), first_at(run, t - o.gap_s), at);
     if (same_speed(wide, j.left)) j.left_wide = wide;
   }
   if (std::abs(j.right.x_slope) >= kStanding_mm_s) {
     const double reach = std::clamp(kSlopeReach_mm / std::abs(j.right.x_slope), o.window_s, kMaxSlopeWindow_s);
-    const Line wide = line(s, first_at(t + o.gap_s + 1e-12), first_at(t + o.gap_s + reach + 1e-12), at);
+    const Line wide = line(s, first_at(run, t + o.gap_s + 1e-12), first_at(run, t + o.gap_s + reach + 1e-12), at);
     if (same_speed(wide, j.right)) j.right_wide = wide;
   }
 }
@@ -193,12 +195,9 @@ double median_off(const RunData& run, const std::vector<double>& force, std::siz
 // side's line by at least half the jump. A dip of a few ms inside one window (a rate law at a
 // velocity blip of the servo: 320012, -90 mN for 6 ms) pulls a line, not the median.
 bool persists(const Jump& j, const RunData& run, const std::vector<double>& force, const LevelShiftOptions& o) {
-  const auto first_at = [&](double t) {
-    return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) - run.t_s.begin());
-  };
   const double t = run.t_s[j.i], at = t - run.t_s.front();
-  const double right_off = median_off(run, force, first_at(t + o.gap_s + 1e-12), first_at(t + o.gap_s + o.window_s + 1e-12), j.left, at);
-  const double left_off = median_off(run, force, first_at(t - o.gap_s - o.window_s), first_at(t - o.gap_s), j.right, at);
+  const double right_off = median_off(run, force, first_at(run, t + o.gap_s + 1e-12), first_at(run, t + o.gap_s + o.window_s + 1e-12), j.left, at);
+  const double left_off = median_off(run, force, first_at(run, t - o.gap_s - o.window_s), first_at(run, t - o.gap_s), j.right, at);
   const double half = 0.5 * j.size;
   return j.size > 0.0 ? right_off >= half && left_off <= -half : right_off <= half && left_off >= -half;
 }
@@ -209,16 +208,12 @@ std::vector<Jump> jumps(const RunData& run, const std::vector<double>& force, do
   Sums s;
   const double t0 = run.t_s.front();
   for (std::size_t i = 0; i < run.size(); ++i) s.add(run.t_s[i] - t0, force[i], run.x_mm[i]);
-  const auto first_at = [&](double t) {
-    return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) -
-                                    run.t_s.begin());
-  };
   std::vector<Jump> out;
   for (std::size_t i = 0; i < run.size(); ++i) {
     const double t = run.t_s[i], at = t - t0;
-    const std::size_t l0 = first_at(t - o.gap_s - o.window_s), l1 = first_at(t - o.gap_s);
-    const std::size_t r0 = first_at(t + o.gap_s + 1e-12),
-                      r1 = first_at(t + o.gap_s + o.window_s + 1e-12);
+    const std::size_t l0 = first_at(run, t - o.gap_s - o.window_s), l1 = first_at(run, t - o.gap_s);
+    const std::size_t r0 = first_at(run, t + o.gap_s + 1e-12),
+                      r1 = first_at(run, t + o.gap_s + o.window_s + 1e-12);
     if (l1 < l0 + kMinSide || r1 < r0 + kMinSide) continue;
     Jump j{i, 0.0, 0.0, line(s, l0, l1, at), line(s, r0, r1, at)};
     j.size = j.right.value - j.left.value;
