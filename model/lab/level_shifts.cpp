@@ -81,6 +81,7 @@ struct Jump {
   double size = 0.0, z = 0.0;  // right - left [N]; |size| in standard errors
   Line left, right;
   Line left_wide, right_wide;  // reaching kSlopeReach_mm each side, for the slopes in x
+  std::size_t l0 = 0, l1 = 0, r0 = 0, r1 = 0;  // the lines' samples: [l0, l1) and [r0, r1)
 };
 
 // The first sample at or after time `t` [s] (the run's size if none).
@@ -194,10 +195,10 @@ double median_off(const RunData& run, const std::vector<double>& force, std::siz
 // A level that changes and stays changed: most samples on each side stand off the other
 // side's line by at least half the jump. A dip of a few ms inside one window (a rate law at a
 // velocity blip of the servo: 320012, -90 mN for 6 ms) pulls a line, not the median.
-bool persists(const Jump& j, const RunData& run, const std::vector<double>& force, const LevelShiftOptions& o) {
-  const double t = run.t_s[j.i], at = t - run.t_s.front();
-  const double right_off = median_off(run, force, first_at(run, t + o.gap_s + 1e-12), first_at(run, t + o.gap_s + o.window_s + 1e-12), j.left, at);
-  const double left_off = median_off(run, force, first_at(run, t - o.gap_s - o.window_s), first_at(run, t - o.gap_s), j.right, at);
+bool persists(const Jump& j, const RunData& run, const std::vector<double>& force) {
+  const double at = run.t_s[j.i] - run.t_s.front();
+  const double right_off = median_off(run, force, j.r0, j.r1, j.left, at);
+  const double left_off = median_off(run, force, j.l0, j.l1, j.right, at);
   const double half = 0.5 * j.size;
   return j.size > 0.0 ? right_off >= half && left_off <= -half : right_off <= half && left_off >= -half;
 }
@@ -215,7 +216,7 @@ std::vector<Jump> jumps(const RunData& run, const std::vector<double>& force, do
     const std::size_t r0 = first_at(run, t + o.gap_s + 1e-12),
                       r1 = first_at(run, t + o.gap_s + o.window_s + 1e-12);
     if (l1 < l0 + kMinSide || r1 < r0 + kMinSide) continue;
-    Jump j{i, 0.0, 0.0, line(s, l0, l1, at), line(s, r0, r1, at)};
+    Jump j{i, 0.0, 0.0, line(s, l0, l1, at), line(s, r0, r1, at), {}, {}, l0, l1, r0, r1};
     j.size = j.right.value - j.left.value;
     const double se = sigma * std::hypot(j.left.value_se, j.right.value_se);
     j.z = std::abs(j.size) / std::max(se, 1e-12);
@@ -231,7 +232,7 @@ std::vector<Jump> jumps(const RunData& run, const std::vector<double>& force, do
     });
     if (!near) kept.push_back(j);
   }
-  kept.erase(std::remove_if(kept.begin(), kept.end(), [&](const Jump& j) { return !persists(j, run, force, o); }), kept.end());
+  kept.erase(std::remove_if(kept.begin(), kept.end(), [&](const Jump& j) { return !persists(j, run, force); }), kept.end());
   for (Jump& j : kept) widen(j, s, run, o);
   return kept;
 }
@@ -247,11 +248,12 @@ std::vector<OffsetStep> find_offset_steps(const RunData& run, double sigma_N,
   std::vector<double> force = run.force_N;
   while (steps.size() <= o.max_steps) {
     const std::vector<Jump> found = jumps(run, force, sigma_N, o);
+    const double level = free_level(force);
     const auto step = std::find_if(found.begin(), found.end(), [&](const Jump& j) {
       const bool beside = std::any_of(steps.begin(), steps.end(), [&](const OffsetStep& k) {
         return std::abs(k.t_s - run.t_s[j.i]) < o.window_s + o.gap_s;
       });
-      return !beside && is_offset(j, run, free_level(force), sigma_N, o);
+      return !beside && is_offset(j, run, level, sigma_N, o);
     });
     if (step == found.end()) break;
     steps.push_back({step->i, run.t_s[step->i], step->size});
