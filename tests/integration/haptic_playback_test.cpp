@@ -250,16 +250,22 @@ TEST(OpenHaptics, AWarmMotorsErrorTurnsForceOffAndEndsTheSessionWithAClearFault)
 TEST(OpenHaptics, AStalledServoHasTheDevicesForceOutputTurnedOffWhileItIsStillStalled) {
   FakePhantom phantom;
   auto& [fake, device, model, source] = phantom;
-  HapticSession session(device, source, ServoSettings{});  // the stall watchdog's 20 ms
+  // A watchdog of 250 ms (20 ms by default): a loaded machine's own stall of the servo thread
+  // (CI builds beside this test) must not end the session before the injected one. The subject
+  // is when the force goes off, which the longer timeout does not change.
+  HapticSession session(device, source, ServoSettings{}, std::chrono::milliseconds(250));
+  const auto force_output_enabled = fake.symbol<int (*)()>("fake_hd_force_output_enabled");
   int enabled_before = -1, enabled_during = -1;
   std::thread injector([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(200));
-    enabled_before = fake.symbol<int (*)()>("fake_hd_force_output_enabled")();
-    fake.symbol<void (*)(long)>("fake_hd_stall_scheduler")(1500);  // the servo thread stands still 1.5 s
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));    // well past the watchdog, still stalled
-    enabled_during = fake.symbol<int (*)()>("fake_hd_force_output_enabled")();
+    // The session turns force output on as it starts; wait for that (at most 5 s), not a guess.
+    for (int waited_ms = 0; waited_ms < 5000 && force_output_enabled() != 1; waited_ms += 10)
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    enabled_before = force_output_enabled();
+    fake.symbol<void (*)(long)>("fake_hd_stall_scheduler")(3000);  // the servo thread stands still 3 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // 6x the watchdog, still stalled
+    enabled_during = force_output_enabled();
   });
-  const SessionReport report = session.run(nullptr, nullptr, 5.0);
+  const SessionReport report = session.run(nullptr, nullptr, 10.0);
   injector.join();
   EXPECT_EQ(enabled_before, 1);
   EXPECT_EQ(enabled_during, 0) << "force output must go off while the servo is stalled, not when it comes back";

@@ -36,8 +36,15 @@ void SpatialRipple::design(const SampleView& s, const double* p, double* row) co
     row[0] *= s.force_N, row[1] *= s.force_N;
     return;
   }
-  double at_tare[6];
-  fourier(s.run->parked_mm / p[0], harmonics(), at_tare);
+  // The value at the tare is the same for every sample of a run at one period: computed once
+  // per (parked position, period, harmonics) on each fitting thread, not once per sample
+  // (its sine and cosine were a tenth of a diagnosis' time, 2026-12-02). Exact: the same call.
+  thread_local TareColumns tare;
+  if (tare.parked_mm != s.run->parked_mm || tare.period_mm != p[0] || tare.harmonics != harmonics()) {
+    tare.parked_mm = s.run->parked_mm, tare.period_mm = p[0], tare.harmonics = harmonics();
+    fourier(tare.parked_mm / tare.period_mm, tare.harmonics, tare.columns);
+  }
+  const double* at_tare = tare.columns;
   fourier(s.x_mm / p[0], harmonics(), row);
   for (int k = 0; k < 2 * harmonics(); ++k) row[k] -= at_tare[k];
 }

@@ -6,6 +6,7 @@
 // first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1 harmonic),
 // 3 harmonics (sawtooth-like shapes), or a sine whose amplitude is proportional to the load on
 // the screw (the measured force: a nut's friction torque ripple grows with its axial load).
+#include <limits>
 #include "family_term.hpp"
 
 namespace rig::model::effects {
@@ -28,6 +29,13 @@ class SpatialRipple final : public FamilyTerm {
   bool identifiable(const EvidenceInput& fitted, std::string& why_not) const override;
   static constexpr double kMinPeriodsSeen = 3.0;
   int harmonics() const { return form_ == kThreeHarmonics ? 3 : 1; }
+  // The columns' values where the run was tared, for one parked position [mm] and period [mm].
+  struct TareColumns {
+    double parked_mm = std::numeric_limits<double>::quiet_NaN();  // NaN: nothing computed yet
+    double period_mm = 0.0;
+    int harmonics = 0;
+    double columns[6] = {};
+  };
 };
 
 }  // namespace rig::model::effects
