@@ -3,6 +3,7 @@
 // dead device scheduler must not leave the last force on the trainee's hand. Its own
 // thread polls the device's tick counter every poll period; no progress for `timeout`
 // turns force output off at the device (HapticDevice::force_off is safe from any thread).
+// The watchdog's own late wake-ups are not counted as the servo's silence (servo_silence.hpp).
 // A timeout of 0 turns it off: for a simulated device on virtual time, where no hand holds
 // anything and wall-clock stalls of the (unthrottled) servo thread mean nothing.
 #include <atomic>

@@ -128,7 +128,9 @@ void RigdApp::start_loop() {
   rt_thread_ = start_rt_thread(options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
   for (const auto& warning : parts_->rt_report.warnings) spdlog::warn("RT: {}", warning);
   spdlog::info("RT loop at {} Hz ({}{}{}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
-               parts_->rt_report.memory_locked ? ", memory locked" : "",
+               !parts_->rt_report.memory_locked      ? ""
+               : parts_->rt_report.memory_locked_on_fault ? ", memory locked as touched (sanitizer build)"
+                                                          : ", memory locked",
                parts_->rt_report.pinned ? ", on CPU " + std::to_string(config_.thread.cpu) : "",
                parts_->wake_latency->held() ? ", CPU wake-up <= " + std::to_string(config_.thread.cpu_wake_latency_us) + " us" : "");
 }

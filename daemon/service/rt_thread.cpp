@@ -2,22 +2,22 @@
 
 #include <pthread.h>
 #include <sched.h>
-#include <sys/mman.h>
 
-#include <cerrno>
 #include <cstring>
 #include <future>
+
+#include "clock/process_memory_lock.hpp"
 
 namespace rig::service {
 
 RtThreadReport lock_process_memory(bool lock) {
   RtThreadReport report;
   if (!lock) return report;
-  if (mlockall(MCL_CURRENT | MCL_FUTURE) == 0) {
-    report.memory_locked = true;
-  } else {
-    report.warnings.push_back(std::string("mlockall failed (") + std::strerror(errno) +
-                              "): page faults may delay the loop; raise LimitMEMLOCK");
+  const drivers::ProcessMemoryLock memory = drivers::lock_process_memory_in_ram();
+  report.memory_locked = memory.locked;
+  report.memory_locked_on_fault = memory.locked && memory.on_fault_only;
+  if (!memory.locked) {
+    report.warnings.push_back("mlockall failed (" + memory.error + "): page faults may delay the loop; raise LimitMEMLOCK");
   }
   return report;
 }

@@ -19,6 +19,7 @@ struct RtThreadOptions {
 
 struct RtThreadReport {
   bool memory_locked = false;
+  bool memory_locked_on_fault = false;  // a sanitizer build: each page locks when first touched
   bool realtime = false;
   bool pinned = false;
   std::vector<std::string> warnings;

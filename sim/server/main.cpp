@@ -4,9 +4,7 @@
 #include <atomic>
 #include <pthread.h>
 #include <sched.h>
-#include <sys/mman.h>
 
-#include <cerrno>
 #include <csignal>
 #include <cstring>
 #include <fstream>
@@ -14,6 +12,7 @@
 #include <thread>
 
 #include "clock/cpu_wake_latency_request.hpp"
+#include "clock/process_memory_lock.hpp"
 #include "modbus_sim_server.hpp"
 #include "rig/sim/hidden_effect.hpp"
 #include "rig/sim/rig_physics.hpp"
@@ -66,8 +65,9 @@ void answer_like_a_daq(int rt_priority, bool lock_memory, int cpu_wake_latency_u
       std::cerr << "rig-sim: warning: SCHED_FIFO refused, replies may be late under load\n";
     }
   }
-  if (lock_memory && mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
-    std::cerr << "rig-sim: warning: mlockall refused, page faults may delay replies\n";
+  if (lock_memory) {
+    const rig::drivers::ProcessMemoryLock memory = rig::drivers::lock_process_memory_in_ram();
+    if (!memory.locked) std::cerr << "rig-sim: warning: mlockall refused (" << memory.error << "), page faults may delay replies\n";
   }
   if (cpu_wake_latency_us >= 0 && !wake_latency.held()) {
     std::cerr << "rig-sim: warning: " << wake_latency.why_not() << ": idle CPUs may wake late for requests\n";

@@ -73,12 +73,14 @@ std::int64_t steady_ns() {
 
 void ModbusSimServer::refresh_registers() {
   // The physics thread refreshes every 1 ms. A longer gap means rig-sim itself was off the
-  // CPU (a busy test machine): the simulated world does not move on in it, or the DAQ's
-  // watchdog would trip on silence that a real DAQ never saw (rigd's writes were queued).
+  // CPU (a busy test machine). The simulated world moves on in real time through it, as rigd's
+  // does (its velocity reference, its deadlines): a world frozen for the stall would fall behind
+  // rigd's reference by v x stall. But a real DAQ is never preempted and heard rigd's writes,
+  // queued meanwhile: its watchdog excuses the stall, and so does the latency clock of the tests.
   const double wall_s = wall_time_s();
   constexpr double kOwnStall_s = 0.003, kTick_s = 0.001;
   if (last_refresh_wall_s_ > 0.0 && wall_s - last_refresh_wall_s_ > kOwnStall_s) {
-    start_wall_s_ += wall_s - last_refresh_wall_s_ - kTick_s;
+    physics_->excuse_own_stall(wall_s - last_refresh_wall_s_ - kTick_s);
   }
   last_refresh_wall_s_ = wall_s;
   physics_->advance_to(wall_s - start_wall_s_);
@@ -104,7 +106,7 @@ void ModbusSimServer::refresh_registers() {
   in[reg::sim_truth::kMotorPowered] = truth.motor_powered ? 1 : 0;
   reg::encode_u32(truth.motor_off_time_s < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(truth.motor_off_time_s * 1e6),
                   in + reg::sim_truth::kMotorOffTimeUs);
-  reg::encode_u32(static_cast<std::uint32_t>(truth.time_s * 1e6), in + reg::sim_truth::kSimTimeUs);
+  reg::encode_u32(static_cast<std::uint32_t>(truth.accountable_time_s * 1e6), in + reg::sim_truth::kSimTimeUs);
   reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
 }
 

@@ -366,7 +366,11 @@ TEST_F(FaultMatrixCustomRig, LoopOverrunStorm) {
         }).detach();
       },
       "Fault", "loop overrun storm", [&](auto&) { stop_storm.store(true); },
-      1000.0 + 100.0);  // 500 of the last 1000 deadlines missed (safety.overrun_storm_*): ~125 stops, 4 lost each
+      // 500 of the last 1000 deadlines missed (safety.overrun_storm_*): ~125 stops, 4 lost each,
+      // 625 ms at the injected duty (661.6 ms measured, ASan, 2026-11-27); 1,267 ms in the ASan
+      // tier of a clean-clone ./rig test beside the lab's tests (2026-12-04; not traced, maybe
+      // thinner stops on a busy machine). Two windows: a storm never judged fails on the reason.
+      2000.0);
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
 }
 

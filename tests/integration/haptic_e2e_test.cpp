@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <thread>
 
@@ -137,13 +138,33 @@ TEST(RigdHaptics, TheLiveRigIsFeltDuringACutAndMatchesTheModelWithinTheRigsOwnEr
   testing::ScratchDir dir("haptic-live");
   testing::RigProcesses rig(dir);
   std::string why;
-  ASSERT_TRUE(rig.prepare(why)) << why;
-  const auto session = rig.api().post("/api/haptic", R"({"device":"sim","source":"live","max_s":12})");
-  ASSERT_EQ(session.status, 202) << session.body;
-  const auto run = rig.api().post("/api/run", R"({"eye_id":"LIVE1","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":6})");
-  ASSERT_EQ(run.status, 200) << run.body;
-  ASSERT_TRUE(rig.wait_state("Done", 60)) << rig.status().dump();
-  const json done = wait_haptic_done(rig, 30);
+  json done;
+  bool cut_done = false;
+  // The subject is what the hand feels, not the loop's timing: a timing fault of the simulated
+  // rig on a busy machine ends that cut, printed as ACCIDENTAL; the session and the cut start again.
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    ASSERT_TRUE(rig.prepare(why)) << why;
+    const auto session = rig.api().post("/api/haptic", R"({"device":"sim","source":"live","max_s":12})");
+    ASSERT_EQ(session.status, 202) << session.body;
+    const auto run = rig.post_run(R"({"eye_id":"LIVE1","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":6})");
+    ASSERT_EQ(run.status, 200) << run.body;
+    json last;
+    ASSERT_TRUE(rig.wait(
+        [&last](const json& s) {
+          last = s;
+          return s["state"] == "Done" || s["state"] == "Fault";
+        },
+        60))
+        << rig.status().dump();
+    done = wait_haptic_done(rig, 30);
+    cut_done = last["state"] == "Done";
+    if (cut_done) break;
+    ASSERT_TRUE(cli::is_timing_fault(last.value("fault", ""))) << last.dump();
+    std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
+    rig.api().post("/api/reset");
+    rig.wait([](const json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
+  }
+  ASSERT_TRUE(cut_done) << "three cuts faulted on timing";
   EXPECT_EQ(done["state"], "done") << done.dump();
   EXPECT_GT(done["ticks"].get<int>(), 5000);
   // The simulated eye follows the model to ~2 mN; a dead feed (zero force) would be off by

@@ -49,6 +49,12 @@ void RigPhysics::trip_watchdog() {
   watchdog_trip_latched_ = true;
 }
 
+void RigPhysics::excuse_own_stall(double stall_s) {
+  if (!(stall_s > 0.0)) return;
+  last_write_s_ += stall_s;
+  excused_stalls_s_ += stall_s;
+}
+
 void RigPhysics::write_outputs(const drivers::DriveCommand& drive,
                                const drivers::DigitalOutputs& digital) {
   if (digital.camera_trigger && !digital_out_.camera_trigger) ++trigger_edges_;
@@ -83,7 +89,7 @@ void RigPhysics::maybe_swap_eye() {
 void RigPhysics::step_once() {
   const double dt = params_.step_s;
   const bool powered = motor_powered();
-  if (was_powered_ && !powered) motor_off_time_s_ = time_s_;
+  if (was_powered_ && !powered) motor_off_time_s_ = time_s_ - excused_stalls_s_;
   was_powered_ = powered;
   const double before_mm = motor_.position_mm();
   motor_.step(dt, drive_.motor_volts, powered, tissue_.force_N());
@@ -124,6 +130,7 @@ RigTruth RigPhysics::truth() const {
   t.punctured = tissue_.punctured();
   t.motor_powered = motor_powered();
   t.motor_off_time_s = motor_off_time_s_;
+  t.accountable_time_s = time_s_ - excused_stalls_s_;
   t.watchdog_tripped = watchdog_tripped();
   t.camera_trigger_edges = trigger_edges_;
   return t;

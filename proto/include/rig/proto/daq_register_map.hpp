@@ -73,8 +73,8 @@ namespace sim_truth {
 inline constexpr int kCarriageMm = 100;        // f32
 inline constexpr int kForceN = 102;            // f32 true tissue force
 inline constexpr int kMotorPowered = 104;      // u16 0/1
-inline constexpr int kMotorOffTimeUs = 105;    // u32 sim time motor power last went off
-inline constexpr int kSimTimeUs = 107;         // u32 sim time
+inline constexpr int kMotorOffTimeUs = 105;    // u32 accountable time [us] motor power last went off
+inline constexpr int kSimTimeUs = 107;         // u32 accountable time [us]: sim time less rig-sim's own stalls
 inline constexpr int kTipDepthMm = 109;        // f32
 inline constexpr int kCount = 11;
 }  // namespace sim_truth

@@ -43,7 +43,10 @@ struct RigTruth {
   double iop_mmHg = 0.0;
   bool punctured = false;
   bool motor_powered = false;
-  double motor_off_time_s = -1.0;   // last time motor power went from on to off
+  double motor_off_time_s = -1.0;   // last time motor power went from on to off [s, accountable time]
+  // time_s less the stalls of rig-sim itself (excuse_own_stall) [s]: the clock that latencies
+  // of rigd are measured on, so that a busy host's preemption of the simulator is not blamed on rigd.
+  double accountable_time_s = 0.0;
   bool watchdog_tripped = false;
   std::uint64_t camera_trigger_edges = 0;
 };
@@ -62,6 +65,11 @@ class RigPhysics {
   void restart_daq();
   // The DAQ's watchdog trips as if rigd had fallen silent: outputs off, flag set until the next write.
   void trip_watchdog();
+  // The simulator itself was off the CPU for stall_s [s] (a busy host) and is about to catch up:
+  // the world moves on through it, as a real one would, but a real DAQ, never preempted, heard
+  // rigd's writes that were queued meanwhile. So its watchdog does not count the stall as
+  // silence, and accountable time (motor-off latencies) leaves it out. Call before advance_to().
+  void excuse_own_stall(double stall_s);
   drivers::AnalogFrame analog_frame() const { return frame_; }
   drivers::DigitalInputs digital_inputs() const;
 
@@ -101,7 +109,8 @@ class RigPhysics {
   double last_write_s_ = 0.0;
   double watchdog_s_ = 0.0;
   bool watchdog_trip_latched_ = false;  // trip_watchdog(), until a write with the motor off
-  double motor_off_time_s_ = -1.0;
+  double motor_off_time_s_ = -1.0;  // [s, accountable time]
+  double excused_stalls_s_ = 0.0;   // sum of excuse_own_stall() [s]
   bool was_powered_ = false;
   bool auto_new_eye_ = true;
   double outside_idle_s_ = 0.0;
