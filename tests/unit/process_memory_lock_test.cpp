@@ -17,6 +17,12 @@
 
 namespace {
 
+// A mapping's first line in /proc/self/smaps ("7f..-7f.. r-xp ... /path"), not a "Key: value" line.
+bool is_mapping_header(const std::string& line) {
+  return !line.empty() && std::isxdigit(static_cast<unsigned char>(line[0])) &&
+         line.find(':') > line.find(' ');
+}
+
 // Locked [kB] of the mapping that holds `address`, from /proc/self/smaps; -1 if none does.
 // Per mapping, not the process's VmLck: on some kernels (6.18 here, 2026-12-04) VmLck wraps
 // below zero under TSan (18446744069951540368 kB), whose shadow mappings span terabytes.
@@ -27,9 +33,7 @@ long locked_kB_of_mapping_at(const void* address) {
   bool inside = false;
   while (std::getline(smaps, line)) {
     const std::size_t dash = line.find('-');
-    const bool header = !line.empty() && std::isxdigit(static_cast<unsigned char>(line[0])) &&
-                        dash != std::string::npos && line.find(':') > line.find(' ');
-    if (header) {
+    if (is_mapping_header(line) && dash != std::string::npos) {
       const std::uintptr_t from = std::stoull(line.substr(0, dash), nullptr, 16);
       const std::uintptr_t to = std::stoull(line.substr(dash + 1), nullptr, 16);
       inside = at >= from && at < to;
@@ -70,9 +74,7 @@ std::pair<long, long> code_size_and_resident_kB() {
   bool in_code = false;
   long size_kB = 0, resident = 0;
   while (std::getline(smaps, line)) {
-    const bool header = !line.empty() && std::isxdigit(static_cast<unsigned char>(line[0])) &&
-                        line.find(':') > line.find(' ');
-    if (header) {
+    if (is_mapping_header(line)) {
       in_code = line.find(" r-xp ") != std::string::npos && line.find(" /") != std::string::npos;
     } else if (in_code && line.rfind("Size:", 0) == 0) {
       size_kB += std::stol(line.substr(5));
