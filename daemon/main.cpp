@@ -26,6 +26,18 @@ void setup_logging() {
   }
 }
 
+// Signals are taken by sigwait in main, never by the RT thread (blocked before any thread starts).
+sigset_t block_shutdown_signals() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  // A full disk may show up as RLIMIT_FSIZE: a failed write is handled, not a killed daemon.
+  std::signal(SIGXFSZ, SIG_IGN);
+  return signals;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -55,14 +67,7 @@ int main(int argc, char** argv) {
     std::cout << "rigd: " << config_path << " is valid (hash " << config.hash << ")\n";
     return 0;
   }
-  // Signals are taken by sigwait below, never by the RT thread.
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-  // A full disk may show up as RLIMIT_FSIZE: a failed write is handled, not a killed daemon.
-  std::signal(SIGXFSZ, SIG_IGN);
+  const sigset_t signals = block_shutdown_signals();
   const rig::service::SystemdNotifier notifier;
   notifier.status("starting: drivers, RT loop, API");
   rig::service::RigdApp rigd(config);

@@ -58,6 +58,18 @@ bool drained(const json& s) {
   return lab["connected"] == true && lab["backlog_known"] == true && lab["backlog_samples"] == 0 && lab["backlog_runs"] == 0;
 }
 
+// Samples of the completed runs in the rigs' own archives.
+std::int64_t completed_samples(const std::vector<std::unique_ptr<testing::RigProcesses>>& rigs) {
+  std::int64_t samples = 0;
+  for (const auto& rig : rigs) {
+    archive::Archive local(rig->archive_path(), true);
+    for (const auto& run : local.list_runs()) {
+      if (run.outcome == "completed") samples += run.samples;
+    }
+  }
+  return samples;
+}
+
 TEST(LabArchiveThreeRigds, ThreeRigdsCutIntoOnePostgresqlAndOneCommandDiagnosesAllTheirRuns) {
   testing::PgTestServer server;
   const std::array<std::string, 3> names = {"rig-a", "rig-b", "rig-c"};
@@ -90,13 +102,7 @@ TEST(LabArchiveThreeRigds, ThreeRigdsCutIntoOnePostgresqlAndOneCommandDiagnosesA
   }
 
   // The lab holds every completed run of every rig, sample for sample.
-  std::int64_t local_samples = 0;
-  for (const auto& rig : rigs) {
-    archive::Archive local(rig->archive_path(), true);
-    for (const auto& run : local.list_runs()) {
-      if (run.outcome == "completed") local_samples += run.samples;
-    }
-  }
+  const std::int64_t local_samples = completed_samples(rigs);
   EXPECT_EQ(server.query("SELECT count(*) FROM runs WHERE outcome = 'completed' AND eye_lot = 'LOT-3R'"),
             std::to_string(3 * kCutsPerRig));
   EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE r.outcome = 'completed'"),
