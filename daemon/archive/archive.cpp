@@ -28,12 +28,16 @@ Archive::Archive(const std::string& path, bool read_only) : db_(path, read_only)
   }
   // synchronous=FULL: in WAL mode NORMAL syncs the log only at checkpoints, so a power cut
   // rolled back commits rigd had acknowledged (a whole run row and its samples, found by
-  // kernel.power_cuts_*). FULL syncs the log at every commit: one fsync per recorder flush.
+  // kernel.power_cuts_*). FULL syncs the log at every commit. The recorder's own connection
+  // syncs it on a thread of its own instead (defer_log_syncs, service/wal_syncer.hpp).
   db_.exec("PRAGMA journal_mode=WAL; PRAGMA synchronous=FULL; PRAGMA foreign_keys=ON;");
   create_schema();
 }
 
 void Archive::defer_checkpoints() { db_.exec("PRAGMA wal_autocheckpoint=0;"); }
+
+// NORMAL in WAL mode still syncs the log before each checkpoint and the database after it.
+void Archive::defer_log_syncs() { db_.exec("PRAGMA synchronous=NORMAL;"); }
 
 void Archive::create_schema() { SchemaMigrations::bring_up_to_date(db_); }
 

@@ -86,6 +86,10 @@ class Archive {
   // after a power cut), a commit of hundreds of ms in the middle of a cut, and a power cut
   // then takes more than one flush interval. The recorder checkpoints between runs instead.
   void defer_checkpoints();
+  // Commits are written to the log but not synced (synchronous=NORMAL): the caller syncs
+  // `<path>-wal` after each commit itself (the recorder's WalSyncer), so a slow sync never
+  // holds up the next write. Until it has, a power cut can roll the commit back.
+  void defer_log_syncs();
   // Copies the log into the database as far as readers allow: the frames left [pages].
   int checkpoint() { return db_.checkpoint_log(); }
 

@@ -49,12 +49,15 @@ std::string describe_fault(rt::FaultCode code, double value) {
   return std::string(rt::to_string(code)) + detail;
 }
 
-Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms)
+Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms,
+                   WalSyncer::SyncFunction sync)
     : channels_(&channels),
       archive_(std::make_unique<archive::Archive>(archive_path)),
       flush_interval_ms_(flush_interval_ms),
       cadence_(std::chrono::milliseconds(flush_interval_ms), kDrainPeriod) {
   archive_->defer_checkpoints();
+  archive_->defer_log_syncs();  // the syncer makes each commit durable (wal_syncer.hpp)
+  syncer_ = std::make_unique<WalSyncer>(archive_path + "-wal", std::move(sync));
   const int interrupted = archive_->recover_interrupted();
   if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
   for (const std::string& source : archive_->remove_abandoned_imports()) {
@@ -64,21 +67,27 @@ Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, 
 
 Recorder::~Recorder() { stop(); }
 
+// The syncer at the recorder's priority: a commit is durable only once it has synced.
 std::string Recorder::start(int priority) {
+  const std::string syncer_refused = syncer_->start(priority);
   thread_ = std::thread([this] { run(); });
   if (priority <= 0) return {};
   sched_param param{};
   param.sched_priority = priority;
   const int rc = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);
-  if (rc == 0) return {};
-  return "SCHED_FIFO priority " + std::to_string(priority) + " for the recorder refused (" + std::strerror(rc) +
-         "): its commits may come late on a busy machine, and a power cut then loses more than one flush interval";
+  if (rc == 0 && syncer_refused.empty()) return {};
+  const std::string refused = rc != 0 ? "SCHED_FIFO priority " + std::to_string(priority) + " for the recorder refused (" +
+                                            std::strerror(rc) + ")"
+                                      : syncer_refused;
+  return refused + ": its commits may come late on a busy machine, and a power cut then loses more than one flush interval";
 }
 
 void Recorder::stop() {
   if (!thread_.joinable()) return;
   stop_.store(true);
   thread_.join();
+  syncer_->stop();  // syncs the final commit
+  tally_synced();
 }
 
 void Recorder::add_frames(std::vector<archive::FrameRow> rows) {
@@ -92,13 +101,12 @@ void Recorder::flush() {
   dirty_ = false;
   log_to_checkpoint_ = true;
   stats_.commits.fetch_add(1);
-  rt::FaultCode failing = rt::FaultCode::kArchiveWriteFailed;  // writes work again
-  channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
 }
 
 // A sample is durable once the commit after it has synced. The next commit is due early
-// enough that the span from this one's start to the next one's end stays within the flush
-// interval (commit_cadence.hpp): what a power cut can take is then one interval.
+// enough that the span from this one's start to the end of the next one's sync stays within
+// the flush interval (commit_cadence.hpp): what a power cut can take is then one interval.
+// The write is here, the sync on the syncer's thread: a slow sync never delays the next write.
 void Recorder::commit_when_due(Clock::time_point& next_commit) {
   const auto began = Clock::now();
   if (began < next_commit) return;
@@ -106,7 +114,10 @@ void Recorder::commit_when_due(Clock::time_point& next_commit) {
   flush();
   const auto ended = Clock::now();
   if (had_data) {
-    tally_commit(next_commit, began, ended);
+    const Clock::duration late = std::max(Clock::duration::zero(), began - next_commit);
+    syncer_->commit_written({began, late, previous_commit_began_});
+    raise_to(stats_.max_late_us, std::chrono::duration_cast<std::chrono::microseconds>(late).count());
+    previous_commit_began_ = began;
     next_commit = cadence_.after_commit(next_commit, began, ended);
   } else {
     previous_commit_began_ = began;  // nothing was pending then: later samples are exposed from here
@@ -114,21 +125,31 @@ void Recorder::commit_when_due(Clock::time_point& next_commit) {
   }
 }
 
-void Recorder::tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended) {
+// The syncs that ended: a commit's time is its write + sync; its exposure runs from the
+// previous commit's start (its oldest sample came after that, having waited up to one drain
+// period, ~2 ms, in the loop's ring) to the end of its sync. A failed sync faults the run.
+void Recorder::tally_synced() {
   using std::chrono::duration_cast;
   using std::chrono::microseconds;
-  const std::int64_t took_us = duration_cast<microseconds>(ended - began).count();
-  stats_.last_commit_us.store(took_us, std::memory_order_relaxed);
-  raise_to(stats_.max_commit_us, took_us);
-  raise_to(stats_.max_late_us, duration_cast<microseconds>(began - due).count());
-  // Samples drained after the previous commit began became durable only now (a sample waits
-  // in the loop's ring up to one drain period, ~2 ms, before that).
-  if (previous_commit_began_ != Clock::time_point{}) {
-    const std::int64_t exposure_us = duration_cast<microseconds>(ended - previous_commit_began_).count();
+  for (const WalSyncer::Synced& s : syncer_->take_synced()) {
+    if (!s.error.empty()) {
+      rt::FaultCode none = rt::FaultCode::kNone;
+      if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kArchiveWriteFailed))
+        spdlog::critical("recorder: {}, faulting the run", s.error);
+      continue;
+    }
+    rt::FaultCode failing = rt::FaultCode::kArchiveWriteFailed;  // writes and syncs work again
+    channels_->service_fault.compare_exchange_strong(failing, rt::FaultCode::kNone);
+    stats_.durable_commits.fetch_add(s.commits, std::memory_order_relaxed);
+    const std::int64_t took_us = duration_cast<microseconds>(s.took).count();
+    stats_.last_commit_us.store(took_us, std::memory_order_relaxed);
+    raise_to(stats_.max_commit_us, took_us);
+    cadence_.note_durable(s.late + s.took);
+    if (!s.has_exposure) continue;
+    const std::int64_t exposure_us = duration_cast<microseconds>(s.exposure).count();
     stats_.last_exposure_us.store(exposure_us, std::memory_order_relaxed);
     raise_to(stats_.max_exposure_us, exposure_us);
   }
-  previous_commit_began_ = began;
 }
 
 // Until 2026-11-28 SQLite copied the log into the database inside whichever commit took it
@@ -137,7 +158,7 @@ void Recorder::checkpoint_when_idle() {
   constexpr auto kQuietFor = std::chrono::seconds(1);     // no sample for this long: between runs
   constexpr auto kRetryAfter = std::chrono::seconds(1);   // a reader kept part of the log: try again
   const Clock::time_point now = Clock::now();
-  if (!log_to_checkpoint_ || dirty_ || open_run_ != 0 || armed_run_ != 0) return;
+  if (!log_to_checkpoint_ || dirty_ || open_run_ != 0 || armed_run_ != 0 || !syncer_->idle()) return;
   if (now - last_sample_ < kQuietFor || now - last_checkpoint_try_ < kRetryAfter) return;
   last_checkpoint_try_ = now;
   const int left = archive_->checkpoint();
@@ -152,6 +173,7 @@ void Recorder::run() {
   while (!stop_.load()) {
     try {
       drain();
+      tally_synced();
       commit_when_due(next_commit);
       checkpoint_when_idle();
     } catch (const std::exception& e) {
@@ -169,7 +191,10 @@ void Recorder::run() {
   }
   try {
     drain();
+    const auto began = Clock::now();
+    const bool had_data = dirty_;
     flush();
+    if (had_data) syncer_->commit_written({began, {}, previous_commit_began_});  // synced by stop()
   } catch (const std::exception& e) {
     spdlog::error("recorder: final flush: {}", e.what());
   }

@@ -1,7 +1,10 @@
 #pragma once
 // Drains the RT loop's recorder rings into the archive. Samples and events of a run are
 // written in a transaction committed every flush interval, so a crash (even kill -9) loses
-// at most that interval. Never touches the RT thread's data except through the rings.
+// at most that interval; each commit is synced on the syncer's thread (wal_syncer.hpp), so a
+// power cut loses at most that interval too while the disk keeps up, and a slow disk delays
+// only the sync, never the next write. Never touches the RT thread's data except through the
+// rings.
 #include <atomic>
 #include <chrono>
 #include <cstdint>
@@ -15,17 +18,20 @@
 #include "commit_cadence.hpp"
 #include "loop_channels.hpp"
 #include "recorder_stats.hpp"
+#include "wal_syncer.hpp"
 
 namespace rig::service {
 
 class Recorder {
  public:
-  Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms);
+  // sync: how the log is synced (fdatasync; tests slow it down).
+  Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms,
+           WalSyncer::SyncFunction sync = {});
   ~Recorder();
   // Starts the thread, with SCHED_FIFO at `priority` when > 0; returns why that was refused
   // (the recorder then runs with normal scheduling), empty when granted or not asked.
   std::string start(int priority = 0);
-  void stop();  // drains what is left, commits, joins
+  void stop();  // drains what is left, commits, syncs, joins
 
   // Camera frame index rows, from the camera thread: written in the recorder's own
   // transaction, so the archive has a single writer and nobody waits on its lock.
@@ -44,7 +50,7 @@ class Recorder {
   using Clock = std::chrono::steady_clock;
   // Commits once next_commit has come, sets the next one and tallies the commit's timing.
   void commit_when_due(Clock::time_point& next_commit);
-  void tally_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
+  void tally_synced();  // the syncer's finished syncs into the stats and the cadence
   // Copies the archive's log into its database when no run is armed or cutting and no sample
   // came for a while: never inside a cut's commits (Archive::defer_checkpoints).
   void checkpoint_when_idle();
@@ -53,6 +59,7 @@ class Recorder {
   std::unique_ptr<archive::Archive> archive_;
   int flush_interval_ms_;
   CommitCadence cadence_;
+  std::unique_ptr<WalSyncer> syncer_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   RecorderStats stats_;

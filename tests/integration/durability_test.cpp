@@ -29,6 +29,7 @@ struct Kill {
   double cycle_at_kill = 0;  // the loop's cycle when the signal was sent (extrapolated at 1 kHz)
   std::string state;
   std::string fault;         // the fault that ended the run before the kill, if it did
+  std::string commits;       // the recorder's commit tally just before the kill (for a failure)
 };
 
 // Runs that faulted by accident (the DAQ link starved on this shared VM) before the kill;
@@ -87,6 +88,7 @@ Kill run_and_kill(RigProcesses& rig, std::mt19937& rng, int i) {
   const double since_read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at).count();
   k.cycle_at_kill = before["loop"]["cycles"].get<double>() + since_read_s * 1000.0;
   k.state = before["state"];
+  k.commits = before.value("archive_commits", json::object()).dump();
   if (k.state == "Fault") {
     // The run ended at its fault, before the kill: the cycles since are not samples it
     // lost. Its archive is still checked; the accidental fault is counted and printed.
@@ -119,7 +121,7 @@ double check_run(archive::Database& db, const Kill& k) {
   EXPECT_EQ(order.integer(0), 0) << "time goes backwards in run " << k.run_id;
   if (!k.fault.empty()) return -1.0;  // ended by its fault, not by the kill: no loss to judge
   const double missing_ms = (k.cycle_at_kill - static_cast<double>(q.integer(2) + 1)) * 1.0;  // 1 ms per cycle
-  EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms << " ms";
+  EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms << " ms; the recorder before the kill: " << k.commits;
   return missing_ms;
 }
 

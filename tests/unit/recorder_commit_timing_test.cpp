@@ -179,6 +179,18 @@ TEST(CommitCadence, AFreshCadenceAssumesACommitCostsHalfTheIntervalUntilItHasMea
   EXPECT_EQ(cadence.recent_cost(), 3ms);
 }
 
+TEST(CommitCadence, ASyncSlowerThanHalfTheIntervalSpacesCommitsByHalfTheIntervalNotBackToBack) {
+  CommitCadence cadence(kInterval, kDrain);
+  Clock::time_point t{};
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 1ms);
+  // The syncer reports a commit durable 200 ms after it was due (a stalled disk): no cadence
+  // keeps the bound then, and writing every drain period would only load the disk more.
+  cadence.note_durable(200ms);
+  EXPECT_EQ(cadence.recent_cost(), 200ms);
+  const Clock::time_point began = t + 1s;
+  EXPECT_EQ(cadence.after_commit(began, began, began + 1ms) - began, kInterval - kDrain - kInterval / 2);
+}
+
 TEST(CommitCadence, NoCommitCostlierThanTheRecentOnesExposesMoreThanTheInterval) {
   CommitCadence cadence(kInterval, kDrain);
   std::mt19937 random(20261127);
