@@ -17,6 +17,7 @@
 
 #include "archive.hpp"
 #include "loop_settings.hpp"
+#include "overrun_storm_injector.hpp"
 #include "rig/sim/physics_params.hpp"
 #include "rig_processes.hpp"
 #include "scoped_realtime.hpp"
@@ -347,30 +348,32 @@ TEST_F(FaultMatrixCustomRig, LoopOverrunStorm) {
   // overrun storm, not as the DAQ dropping its outputs (its own row, DaqWatchdogTripsMidCut).
   rig_ = std::make_unique<RigProcesses>(dir_, std::vector<std::string>{}, quick_setup());
   cut_into_tissue();
-  // rigd's process stopped for 4 ms of every 5 ms: the loop misses 4 deadlines of 5. The
-  // injecting thread runs above rigd's loop (SCHED_FIFO 90 when allowed): on a busy machine a
-  // thread of normal priority slept 10 ms instead of 1 and the storm never built up.
+  // rigd's process stopped for 4 ms of every 5 ms (overrun_storm_injector.hpp): the loop
+  // misses 4 deadlines of 5; the injecting thread runs above rigd's loop (SCHED_FIFO 90 when
+  // allowed): on a busy machine a thread of normal priority slept 10 ms instead of 1 and the
+  // storm never built up. Each stop is timed: the bound below is rigd's rule applied to them.
+  testing::OverrunStormInjector storm;
   const pid_t pid = rig_->rigd().pid();
-  std::atomic<bool> stop_storm{false};
-  inject_and_check(
-      [&](auto&) {
-        std::thread([pid, &stop_storm] {
-          const testing::ScopedRealtime above_the_loop(90);
-          for (int i = 0; i < 1000 && !stop_storm.load(); ++i) {
-            ::kill(pid, SIGSTOP);
-            std::this_thread::sleep_for(std::chrono::milliseconds(4));
-            ::kill(pid, SIGCONT);
-            std::this_thread::sleep_for(std::chrono::milliseconds(1));
-          }
-          ::kill(pid, SIGCONT);
-        }).detach();
-      },
-      "Fault", "loop overrun storm", [&](auto&) { stop_storm.store(true); },
-      // 500 of the last 1000 deadlines missed (safety.overrun_storm_*): ~125 stops, 4 lost each,
-      // 625 ms at the injected duty (661.6 ms measured, ASan, 2026-11-27); 1,267 ms in the ASan
-      // tier of a clean-clone ./rig test beside the lab's tests (2026-12-04; not traced, maybe
-      // thinner stops on a busy machine). Two windows: a storm never judged fails on the reason.
-      2000.0);
+  const pid_t loop_thread = testing::OverrunStormInjector::thread_named(pid, "rigd-loop");
+  ASSERT_NE(loop_thread, 0) << "rigd has no thread named rigd-loop";
+  const Outcome out = inject_and_check([&](auto&) { storm.start(pid, loop_thread); }, "Fault", "loop overrun storm",
+                                       [&](auto&) { storm.stop(); },
+                                       // The outer bound: the injection's 1000 stops, ~5 s.
+                                       6000.0);
+  storm.stop();
+  // 500 of the last 1000 deadlines missed (safety.overrun_storm_*): ~625 ms at the asked duty
+  // (661.6 ms measured, ASan, 2026-11-27). Counting each stop as its length less one period,
+  // rigd must have judged the storm once the stops it suffered met that rule, within 100 ms
+  // (a cycle after the last stop, and the motor's power-off on the DAQ).
+  const rt::SafetySettings rule;
+  const double met_ms = storm.rule_met_after_ms(rule.overrun_storm_missed_cycles, rule.overrun_storm_window_cycles, 1.0);
+  std::printf("STORM | %s | the stops met the rule %.1f ms after the injection, the motor was off after %.1f ms\n",
+              storm.summary().c_str(), met_ms, out.motor_off_after_ms);
+  // The machine's own late cycles count too, so rigd may judge it before the stops alone met
+  // the rule (met_ms < 0 when they never did before the injection ended): never after.
+  if (met_ms > 0.0) {
+    EXPECT_LE(out.motor_off_after_ms, met_ms + 100.0) << "rigd judged the storm late: " << storm.summary();
+  }
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
 }
 

@@ -19,6 +19,7 @@ class ScopedRealtime {
     sched_param normal{};
     pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
   }
+  bool raised() const { return raised_; }  // false: refused (no privilege), normal scheduling
   ScopedRealtime(const ScopedRealtime&) = delete;
   ScopedRealtime& operator=(const ScopedRealtime&) = delete;
 
