@@ -184,6 +184,7 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
   derive_pauses(p);
   derive_front_force(p);
+  p.tears = find_tear_releases(run, p.seg, p.velocity_mm_s, p.velocity_cmd_mm_s);
   pack_inputs(p, tracked);
   pack_fit_rows(p);
   for (const auto& [key, text] : run.meta) {

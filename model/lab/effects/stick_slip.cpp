@@ -8,11 +8,12 @@
 namespace rig::model::effects {
 
 const std::vector<std::string>& StickSlip::form_names() {
-  static const std::vector<std::string> kNames = {"3 harmonics", "sine", "period following the speed"};
+  static const std::vector<std::string> kNames = {"3 harmonics", "sine", "period following the speed", "tears released in the force"};
   return kNames;
 }
 
 std::vector<ParamSpec> StickSlip::shared_params() const {
+  if (form_ == kReleased) return {{"tear_length", "mm", 0.35, 0.05, 2.0}, {"speed_exponent", "1", 0.0, -1.0, 1.0}};  // at 2 mm/s; x (v / 2 mm/s)^this
   std::vector<ParamSpec> out = {{"period", "mm", 0.4, 0.05, 2.0}};
   if (form_ == kSine) out.push_back({"harmonics", kFormLabelUnit, 1.0, 0.5, 1.5});
   if (form_ == kSpeedScaled) out.push_back({"speed_exponent", "1", 0.0, -1.0, 1.0});  // period x (v / 2 mm/s)^this
@@ -21,6 +22,12 @@ std::vector<ParamSpec> StickSlip::shared_params() const {
 
 std::vector<std::vector<double>> StickSlip::starts() const {
   std::vector<std::vector<double>> out;
+  if (form_ == kReleased) {
+    for (double length = 0.1; length <= 1.6; length *= 1.1) {
+      for (const double exponent : {-0.3, 0.0, 0.3}) out.push_back({length, exponent});
+    }
+    return out;
+  }
   if (form_ == kSpeedScaled) {  // each eye's own phase: a coarser grid of periods finds the peak
     for (double period = 0.08; period <= 1.6; period *= 1.04) {
       for (const double exponent : {-0.3, 0.0, 0.3}) out.push_back({period, exponent});
@@ -40,6 +47,11 @@ bool StickSlip::applicable(const std::vector<const PreparedRun*>& runs, std::str
 }
 
 void StickSlip::design(const SampleView& s, const double* p, double* row) const {
+  if (form_ == kReleased) {  // a ramp from -1 just after a release to +1 a tear's length on
+    const double since_mm = s.cutting && s.i < s.run->tears.since_mm.size() ? s.run->tears.since_mm[s.i] : -1.0;
+    row[0] = since_mm < 0.0 ? 0.0 : 2.0 * std::min(since_mm / period_mm(s.run->velocity_cmd_mm_s, p), 1.0) - 1.0;
+    return;
+  }
   if (!s.cutting) {
     for (int c = 0; c < 2 * harmonics(); ++c) row[c] = 0.0;
     return;
@@ -48,12 +60,47 @@ void StickSlip::design(const SampleView& s, const double* p, double* row) const 
 }
 
 double StickSlip::period_mm(double velocity_mm_s, const double* p) const {
-  if (form_ != kSpeedScaled) return p[0];
+  if (form_ != kSpeedScaled && form_ != kReleased) return p[0];
   constexpr double kReference_mm_s = 2.0;
   return p[0] * std::pow(std::max(std::abs(velocity_mm_s), 0.1) / kReference_mm_s, p[1]);
 }
 
+int StickSlip::run_parameters(const PreparedRun& run) const {
+  if (form_ != kReleased) return linear_columns();
+  return run.tears.at.empty() ? 0 : 1;
+}
+
+// Released tears are a form only where the force let go often enough to show a tear's build.
+bool StickSlip::identifiable(const EvidenceInput& fitted, std::string& why_not) const {
+  constexpr std::size_t kMinReleases = 5;
+  if (form_ != kReleased) return true;
+  std::size_t releases = 0;
+  for (const PreparedRun* r : fitted.runs) releases += r->tears.at.size();
+  if (releases >= kMinReleases) return true;
+  why_not = format("only %.0f releases of the force while cutting: too few to show tears building", static_cast<double>(releases));
+  return false;
+}
+
+std::string StickSlip::released_evidence(const EvidenceInput& in) const {
+  std::vector<double> drops_mN, spacing_mm;
+  std::size_t runs_with = 0;
+  for (const PreparedRun* r : in.runs) {
+    const TearReleases& t = r->tears;
+    runs_with += t.at.empty() ? 0 : 1;
+    for (std::size_t k = 0; k < t.at.size(); ++k) {
+      drops_mN.push_back(1000.0 * t.drop_N[k]);
+      if (k > 0) spacing_mm.push_back(r->data->x_mm[t.at[k]] - r->data->x_mm[t.at[k - 1]]);
+    }
+  }
+  return format("tears of any length, read off the force's releases: %.0f drops while cutting in %.0f of %.0f runs (median %.1f mN, ",
+                static_cast<double>(drops_mN.size()), static_cast<double>(runs_with), static_cast<double>(in.runs.size()), median(drops_mN)) +
+         format("median spacing %.3f mm); after each the force builds back over up to %.3f mm at 2 mm/s, times (v / 2 mm/s)^%.2f, each eye with its own amplitude",
+                median(spacing_mm), in.shared[0], in.shared[1]) +
+         honesty(in);
+}
+
 std::string StickSlip::evidence(const EvidenceInput& in) const {
+  if (form_ == kReleased) return released_evidence(in);
   if (form_ == kSpeedScaled) {
     double slowest = 1e9, fastest = 0.0;  // [mm/s]
     for (const PreparedRun* r : in.runs) slowest = std::min(slowest, r->velocity_cmd_mm_s), fastest = std::max(fastest, r->velocity_cmd_mm_s);
