@@ -107,5 +107,18 @@ TEST(TearReleases, ThePuncturesOwnDropAndALoneSlipAreNoTears) {
   EXPECT_TRUE(found.at.empty()) << found.at.size() << " releases";
 }
 
+// A drop far above one sample's noise is known from the sample after the next: tears that
+// let go within a sample mispredict one sample, not six.
+TEST(TearReleases, ALargeDropIsKnownTwoSamplesAfterItNotSix) {
+  const SyntheticCut c = cut(0.03, 0.0, 3);  // 60 mN drops, 28 sigmas of a one-sample difference
+  const TearReleases found = find_tear_releases(c.run, c.seg, c.velocity_mm_s, kSpeed_mm_s);
+  ASSERT_EQ(found.at.size(), c.releases.size());
+  for (std::size_t k = 0; k < found.at.size(); ++k)
+    EXPECT_EQ(found.known[k], found.at[k] + 2) << "release " << k;
+  const std::size_t second = found.at[1];
+  EXPECT_NEAR(found.since_mm[second + 2], c.run.x_mm[second + 2] - c.run.x_mm[second + 1], 1e-9);
+  EXPECT_GT(found.since_mm[second + 1], 0.1);  // still the first tear's travel
+}
+
 }  // namespace
 }  // namespace rig::model::tear_release_test
