@@ -39,7 +39,7 @@ struct PreparedRun {
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<double> front_force_N;  // measured force when the carriage was last at its front [N]
   std::vector<double> mean_force_N;   // measured force averaged over +-5 samples [N] (a mount's lag follows it)
-  TearReleases tears;                 // the force's own drops while cutting, and travel since the last (stick_slip)
+  TearReleases tears;                 // the force's own drops past the puncture, and travel since the last (stick_slip)
   std::vector<std::size_t> analysed;  // from first contact to the end
   std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
   std::vector<SampleInputs> inputs;   // per sample: a copy of the above, packed for the fits (set last)

@@ -575,8 +575,11 @@ TEST(SimulatedTearing, HoldsItsTearWhileTheBladeIsStopped) {
 // (0.24 mm at 0.5 mm/s, 0.41 mm at 3.6 mm/s) at 3.4x its floor. With one period in mm for
 // every run, locked to the population's puncture, the tearing term gained at most 0.9 % and
 // `iop_stiffness` ranked first (2026-11-28, seeds 120000-120059). The family's third form
-// (period as a power law of the speed, each eye its own amplitude and phase) finds the law.
-TEST(BlindZoo, TearingWhosePeriodFollowsTheCuttingSpeedIsRankedFirstWithThatForm) {
+// (period as a power law of the speed, each eye its own amplitude and phase) found the law;
+// since 2026-12-07 the fourth (each tear read off where the force lets go, so any period law
+// is followed) wins by BIC 390 and gains 56 %. Either is a form that follows the speed; a
+// single period in mm for every run is not.
+TEST(BlindZoo, TearingWhosePeriodFollowsTheCuttingSpeedIsRankedFirstWithAFormThatFollowsIt) {
   const ZooDraw draw = ZooGenerator().draw(120047);
   ASSERT_EQ(draw.family, "stick_slip");
   model::DiagnoseOptions options;
@@ -586,7 +589,9 @@ TEST(BlindZoo, TearingWhosePeriodFollowsTheCuttingSpeedIsRankedFirstWithThatForm
   const model::CandidateResult& first = d.candidates.front();
   EXPECT_EQ(first.effect, "stick_slip");
   EXPECT_TRUE(first.significant);
-  EXPECT_NE(first.evidence.find("period follows the cutting speed"), std::string::npos) << first.evidence;
+  const bool follows_the_speed = first.evidence.find("period follows the cutting speed") != std::string::npos ||
+                                 first.evidence.find("read off the force's releases") != std::string::npos;
+  EXPECT_TRUE(follows_the_speed) << first.evidence;
   EXPECT_GT(first.gain_pct, 15.0);
   EXPECT_TRUE(d.verdict == "stick_slip" || (d.verdict == "unexplained" && d.partial_candidate == "stick_slip")) << d.verdict;
 }

@@ -92,7 +92,7 @@ std::string StickSlip::released_evidence(const EvidenceInput& in) const {
       if (k > 0) spacing_mm.push_back(r->data->x_mm[t.at[k]] - r->data->x_mm[t.at[k - 1]]);
     }
   }
-  return format("tears of any length, read off the force's releases: %.0f drops while cutting in %.0f of %.0f runs (median %.1f mN, ",
+  return format("tears of any length, read off the force's releases: %.0f drops past the puncture in %.0f of %.0f runs (median %.1f mN, ",
                 static_cast<double>(drops_mN.size()), static_cast<double>(runs_with), static_cast<double>(in.runs.size()), median(drops_mN)) +
          format("median spacing %.3f mm); after each the force builds back over up to %.3f mm at 2 mm/s, times (v / 2 mm/s)^%.2f, each eye with its own amplitude",
                 median(spacing_mm), in.shared[0], in.shared[1]) +
