@@ -42,8 +42,8 @@ std::vector<std::vector<double>> StickSlip::starts() const {
     }
     return out;
   }
-  if (form_ ==
-      kGrowing) {  // no growth is the first form with each eye's own phase: not a start here
+  // No growth (g = 0) is the speed form at alpha = 0, so it is not a start here.
+  if (form_ == kGrowing) {
     for (double period = 0.08; period <= 1.6; period *= 1.04) {
       for (const double growth : {-0.2, -0.1, 0.1, 0.2}) out.push_back({period, growth});  // [1/mm]
     }

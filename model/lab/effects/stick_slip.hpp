@@ -40,10 +40,10 @@ class StickSlip final : public FamilyTerm {
   std::string evidence(const EvidenceInput& in) const override;
   std::string released_evidence(const EvidenceInput& in) const;
   int harmonics() const { return form_ == kSine ? 1 : 3; }
-  double period_mm(double velocity_mm_s,
-                   const double* p) const;  // the tearing period at this cutting speed [mm]
-  static double growing_cycles(double past_mm,
-                               const double* p);  // tears cut past the puncture (kGrowing) [cycles]
+  // The tearing period at this cutting speed [mm].
+  double period_mm(double velocity_mm_s, const double* p) const;
+  // Tears cut `past_mm` past the puncture when the period changes along the cut [cycles].
+  static double growing_cycles(double past_mm, const double* p);
 };
 
 }  // namespace rig::model::effects
