@@ -1,11 +1,13 @@
 // rigd: the rig's real-time daemon.
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/sinks/systemd_sink.h>
 #include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
 
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 
 #include "rig/config/config_error.hpp"
@@ -19,7 +21,8 @@ namespace {
 void setup_logging() {
   // Under systemd (JOURNAL_STREAM set) log straight to the journal with priorities.
   if (std::getenv("JOURNAL_STREAM") != nullptr) {
-    spdlog::set_default_logger(std::make_shared<spdlog::logger>("rigd", std::make_shared<spdlog::sinks::systemd_sink_st>()));
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>(
+        "rigd", std::make_shared<spdlog::sinks::systemd_sink_st>()));
   } else {
     spdlog::set_default_logger(spdlog::stderr_color_mt("rigd"));
     spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
@@ -40,7 +43,7 @@ sigset_t block_shutdown_signals() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run_rigd(int argc, char** argv) {
   CLI::App app{"rigd: real-time daemon of the keratome incision rig"};
   std::string config_path = "/etc/rigd/rigd.toml";
   std::vector<std::string> overrides;
@@ -80,7 +83,8 @@ int main(int argc, char** argv) {
   }
   const std::string where = "http://" + config.api.bind + ":" + std::to_string(rigd.api_port());
   std::cout << "rigd: ready, API on " << where << std::endl;
-  notifier.ready("RT loop at " + std::to_string(static_cast<int>(config.loop.rate_hz)) + " Hz, API on " + where);
+  notifier.ready("RT loop at " + std::to_string(static_cast<int>(config.loop.rate_hz)) +
+                 " Hz, API on " + where);
   rig::service::WatchdogFeeder feeder(
       rig::service::SystemdNotifier::watchdog_interval(), [&rigd] { return rigd.loop_alive(); },
       [&notifier] { notifier.watchdog(); },
@@ -96,4 +100,17 @@ int main(int argc, char** argv) {
   feeder.stop();
   rigd.shutdown();
   return 0;
+}
+
+// An exception no command caught (a bug, or a resource gone at setup) ends the program with its
+// message and status 1, not with std::terminate's abort.
+int main(int argc, char** argv) {
+  try {
+    return run_rigd(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rigd: error: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "rigd: error: an unknown exception\n");
+  }
+  return 1;
 }

@@ -30,10 +30,14 @@ std::string where(const std::string& origin, const toml::node& node) {
 
 std::string type_name(ConfigField::Type type) {
   switch (type) {
-    case ConfigField::Type::kInteger: return "an integer";
-    case ConfigField::Type::kNumber: return "a number";
-    case ConfigField::Type::kBoolean: return "true or false";
-    case ConfigField::Type::kString: return "a string";
+    case ConfigField::Type::kInteger:
+      return "an integer";
+    case ConfigField::Type::kNumber:
+      return "a number";
+    case ConfigField::Type::kBoolean:
+      return "true or false";
+    case ConfigField::Type::kString:
+      return "a string";
   }
   return "?";
 }
@@ -48,8 +52,8 @@ ConfigValue convert(const ConfigField& field, const toml::node& node, const std:
   const std::string prefix = at + ": key '" + field.key + "': ";
   auto range_check = [&](double value) {
     if (!std::isfinite(value) || value < field.min || value > field.max) {
-      throw ConfigError(prefix + format_number(value) + " is out of range [" + format_number(field.min) +
-                        ", " + format_number(field.max) + "]");
+      throw ConfigError(prefix + format_number(value) + " is out of range [" +
+                        format_number(field.min) + ", " + format_number(field.max) + "]");
     }
   };
   switch (field.type) {
@@ -79,7 +83,8 @@ ConfigValue convert(const ConfigField& field, const toml::node& node, const std:
   throw ConfigError(prefix + "unsupported type");
 }
 
-ConfigValue resolve(const ConfigField& field, ConfigValue value, const std::filesystem::path& base) {
+ConfigValue resolve(const ConfigField& field, ConfigValue value,
+                    const std::filesystem::path& base) {
   if (!field.is_path) return value;
   const std::string& text = std::get<std::string>(value);
   if (text.empty() || std::filesystem::path(text).is_absolute()) return value;
@@ -89,7 +94,8 @@ ConfigValue resolve(const ConfigField& field, ConfigValue value, const std::file
 void apply_table(RigdConfig& config, const toml::table& table, const std::string& prefix,
                  const std::string& origin, const std::filesystem::path& base) {
   for (auto&& [name, node] : table) {
-    const std::string key = prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
+    const std::string key =
+        prefix.empty() ? std::string(name.str()) : prefix + "." + std::string(name.str());
     if (const toml::table* child = node.as_table()) {
       apply_table(config, *child, key, origin, base);
       continue;
@@ -112,8 +118,11 @@ std::uint64_t fnv1a(const std::string& text, std::uint64_t hash = 14695981039346
 template <typename Fail>
 void check_bind_address(const std::string& bind, Fail fail) {
   unsigned char buffer[16];
-  if (inet_pton(AF_INET, bind.c_str(), buffer) == 1 || inet_pton(AF_INET6, bind.c_str(), buffer) == 1) return;
-  fail("key 'api.bind' = \"" + bind + "\" is not an IP address (use \"127.0.0.1\" for loopback, \"0.0.0.0\" for every interface)");
+  if (inet_pton(AF_INET, bind.c_str(), buffer) == 1 ||
+      inet_pton(AF_INET6, bind.c_str(), buffer) == 1)
+    return;
+  fail("key 'api.bind' = \"" + bind +
+       "\" is not an IP address (use \"127.0.0.1\" for loopback, \"0.0.0.0\" for every interface)");
 }
 
 template <typename Fail>
@@ -134,9 +143,12 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
   const rt::MotionSettings& m = c.loop.motion;
   auto fail = [&](const std::string& what) { throw ConfigError(origin + ": " + what); };
   if (!(m.soft_min_mm < m.park_mm && m.park_mm < m.surface_mm && m.surface_mm < m.soft_max_mm)) {
-    fail("keys 'motion.soft_min_mm' < 'motion.park_mm' < 'motion.surface_mm' < 'motion.soft_max_mm' must hold");
+    fail(
+        "keys 'motion.soft_min_mm' < 'motion.park_mm' < 'motion.surface_mm' < 'motion.soft_max_mm' "
+        "must hold");
   }
-  if (m.min_velocity_mm_s > m.max_velocity_mm_s) fail("key 'motion.min_velocity_mm_s' exceeds 'motion.max_velocity_mm_s'");
+  if (m.min_velocity_mm_s > m.max_velocity_mm_s)
+    fail("key 'motion.min_velocity_mm_s' exceeds 'motion.max_velocity_mm_s'");
   if (c.loop.iop.min_mmHg > c.loop.iop.max_mmHg) fail("key 'iop.min_mmHg' exceeds 'iop.max_mmHg'");
   const double period_us = 1e6 / c.loop.rate_hz;
   if (c.daq.kind == "modbus" && c.daq.modbus.response_timeout_us >= period_us) {
@@ -146,12 +158,15 @@ void check_consistency(const RigdConfig& c, const std::string& origin) {
   // rigd judges lost writes itself before the DAQ's watchdog stops the motor for it.
   const int failed_writes = c.loop.safety.max_failed_writes;
   if (c.daq.kind == "modbus" && failed_writes * period_us >= c.daq.modbus.watchdog_ms * 1e3) {
-    fail("key 'safety.max_failed_writes' (" + std::to_string(failed_writes) + " loop periods) must be shorter than 'daq.watchdog_ms' (" +
+    fail("key 'safety.max_failed_writes' (" + std::to_string(failed_writes) +
+         " loop periods) must be shorter than 'daq.watchdog_ms' (" +
          std::to_string(c.daq.modbus.watchdog_ms) + " ms)");
   }
-  if (c.archive.recorder_priority > 0 && c.archive.recorder_priority >= c.thread.priority && c.thread.priority > 0) {
-    fail("key 'archive.recorder_priority' (" + std::to_string(c.archive.recorder_priority) + ") must be below 'loop.priority' (" +
-         std::to_string(c.thread.priority) + "): the loop comes first");
+  if (c.archive.recorder_priority > 0 && c.archive.recorder_priority >= c.thread.priority &&
+      c.thread.priority > 0) {
+    fail("key 'archive.recorder_priority' (" + std::to_string(c.archive.recorder_priority) +
+         ") must be below 'loop.priority' (" + std::to_string(c.thread.priority) +
+         "): the loop comes first");
   }
   if (c.daq.modbus.transport == "rtu" && c.daq.modbus.serial_device.empty()) {
     fail("key 'daq.serial_device' is required for daq.transport = \"rtu\"");
@@ -178,7 +193,8 @@ RigdConfig load_rigd_config(const std::string& path, const std::vector<std::stri
     const toml::table table = toml::parse(content.str(), path);
     apply_table(config, table, "", path, std::filesystem::absolute(path).parent_path());
   } catch (const toml::parse_error& e) {
-    throw ConfigError(path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    throw ConfigError(path + ":" + std::to_string(e.source().begin.line) + ": " +
+                      std::string(e.description()));
   }
   std::uint64_t hash = fnv1a(content.str());
   for (const auto& item : overrides) {
@@ -190,7 +206,8 @@ RigdConfig load_rigd_config(const std::string& path, const std::vector<std::stri
       const toml::table table = toml::parse("v = " + item.substr(eq + 1), origin);
       const ConfigField* field = find_field(key);
       if (field == nullptr) throw ConfigError(origin + ": unknown key '" + key + "'");
-      field->assign(config, resolve(*field, convert(*field, *table.get("v"), origin), std::filesystem::current_path()));
+      field->assign(config, resolve(*field, convert(*field, *table.get("v"), origin),
+                                    std::filesystem::current_path()));
     } catch (const toml::parse_error& e) {
       throw ConfigError(origin + ": " + std::string(e.description()));
     }

@@ -27,6 +27,7 @@ struct ConfigField {
 const std::vector<ConfigField>& config_fields();
 // [lab_archive] (lab_archive_fields.cpp).
 void add_lab_archive_fields(std::vector<ConfigField>& fields);
-void check_lab_archive(const LabArchiveSection& lab, const std::function<void(const std::string&)>& fail);
+void check_lab_archive(const LabArchiveSection& lab,
+                       const std::function<void(const std::string&)>& fail);
 
 }  // namespace rig::config

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "auth.hpp"
-#include "request_guard.hpp"
 #include "loop_channels.hpp"
 #include "recorder_stats.hpp"
+#include "request_guard.hpp"
 #include "rig/config/rigd_config.hpp"
 #include "stream_hub.hpp"
 
@@ -27,12 +27,13 @@ struct ApiCounters {
   std::atomic<std::uint64_t> ws_messages_sent{0};
   std::atomic<std::uint64_t> ws_messages_dropped{0};  // slow clients: oldest batches dropped
   std::atomic<std::int64_t> open_connections{0};
-  std::atomic<std::int64_t> safety_only_connections{0};  // refused a general slot: stop / e-stop only
+  std::atomic<std::int64_t> safety_only_connections{
+      0};                                             // refused a general slot: stop / e-stop only
   std::atomic<std::uint64_t> connections_evicted{0};  // safety-only ones closed for newer ones
-  std::atomic<std::uint64_t> accept_failures{0};  // accept() errors, e.g. no descriptor left
+  std::atomic<std::uint64_t> accept_failures{0};      // accept() errors, e.g. no descriptor left
 };
 
-class LabService;      // model lab requests (non-RT worker), optional
+class LabService;     // model lab requests (non-RT worker), optional
 class HapticControl;  // haptic playback sessions, optional
 
 struct ApiContext {
@@ -46,9 +47,11 @@ struct ApiContext {
   ApiAuth auth{std::nullopt};
   RequestGuard guard{"", ""};  // CSRF / DNS-rebinding checks (request_guard.hpp)
   ApiCounters counters;
-  const service::RecorderStats* recorder_stats = nullptr;  // the archive's commit timing, when recording
+  const service::RecorderStats* recorder_stats =
+      nullptr;                                 // the archive's commit timing, when recording
   std::function<std::string()> extra_metrics;  // driver counters in Prometheus text
-  std::function<std::string()> lab_archive_status;  // JSON object when [lab_archive] is on (status "lab_archive")
+  std::function<std::string()>
+      lab_archive_status;  // JSON object when [lab_archive] is on (status "lab_archive")
   // libpq keyword/value pairs of the lab archive (lab_archive::connection_params); empty: off.
   std::vector<std::pair<std::string, std::string>> lab_archive_connection;
 };

@@ -18,21 +18,24 @@ class ApiRouter {
  public:
   ApiRouter(boost::asio::io_context& io, ApiContext& context);
   ~ApiRouter();
-  void handle(const Request& request, Responder respond);
+  void handle(const Request& request, const Responder& respond);
 
  private:
+  void route(const Request& request, const std::string& path, bool static_file,
+             const Responder& respond);
   void post_command(const Request& request, rt::CommandKind kind, Responder respond);
-  void post_run(const Request& request, bool start, Responder respond);
+  void post_run(const Request& request, bool start, const Responder& respond);
   void send_command(const Request& request, const rt::Command& command, Responder respond,
                     std::function<void(rt::CommandResult)> on_answer = {});
-  void model(const Request& request, Responder respond);
-  void lab(const Request& request, const std::string& action, Responder respond);
+  void model(const Request& request, const Responder& respond);
+  void lab(const Request& request, const std::string& action, const Responder& respond);
   void haptic(const Request& request, const std::string& path, Responder respond);
 
   boost::asio::io_context* io_;
   ApiContext* context_;
   std::unique_ptr<ArchiveEndpoints> archive_;  // run lists, exports, run rows: off the I/O thread
-  std::unique_ptr<LabArchiveEndpoints> lab_archive_;  // the lab's PostgreSQL runs: off the I/O thread
+  std::unique_ptr<LabArchiveEndpoints>
+      lab_archive_;                            // the lab's PostgreSQL runs: off the I/O thread
   std::uint64_t next_command_id_ = 1'000'000;  // distinct from other senders' ids
 };
 

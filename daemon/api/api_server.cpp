@@ -1,7 +1,7 @@
 #include "api_server.hpp"
 
-#include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
 
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -15,9 +15,12 @@
 namespace rig::api {
 
 ApiServer::ApiServer(ApiContext& context, const std::string& bind, int port)
-    : context_(&context), limits_(context.config->api.max_clients, context.config->api.max_clients_per_address),
-      acceptor_(io_), router_(io_, context) {
-  const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(bind), static_cast<unsigned short>(port));
+    : context_(&context),
+      limits_(context.config->api.max_clients, context.config->api.max_clients_per_address),
+      acceptor_(io_),
+      router_(io_, context) {
+  const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(bind),
+                                                static_cast<unsigned short>(port));
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -25,7 +28,9 @@ ApiServer::ApiServer(ApiContext& context, const std::string& bind, int port)
   port_ = acceptor_.local_endpoint().port();
 }
 
-ApiServer::~ApiServer() { stop(); }
+ApiServer::~ApiServer() {
+  stop();
+}
 
 void ApiServer::start() {
   accept();
@@ -43,7 +48,8 @@ void ApiServer::start() {
 void ApiServer::raise_priority() {
   const auto thread_id = static_cast<id_t>(::syscall(SYS_gettid));
   if (::setpriority(PRIO_PROCESS, thread_id, kIoThreadNice) != 0) {
-    spdlog::warn("api: the I/O thread keeps normal priority (nice {} refused: {})", kIoThreadNice, std::strerror(errno));
+    spdlog::warn("api: the I/O thread keeps normal priority (nice {} refused: {})", kIoThreadNice,
+                 std::strerror(errno));
   }
 }
 
@@ -60,7 +66,8 @@ void ApiServer::run_guarded() {
       spdlog::error("api: a request handler failed: {} (the API keeps serving)", e.what());
     } catch (...) {
       context_->counters.handler_exceptions.fetch_add(1);
-      spdlog::error("api: a request handler failed with an unknown exception (the API keeps serving)");
+      spdlog::error(
+          "api: a request handler failed with an unknown exception (the API keeps serving)");
     }
   }
 }
@@ -88,7 +95,8 @@ void ApiServer::accept_again_after(const boost::system::error_code& error) {
   context_->counters.accept_failures.fetch_add(1);
   spdlog::warn("api: accepting a connection failed: {} (trying again in 10 ms)", error.message());
   safety_only_.evict_oldest();
-  accept_retry_.expires_after(std::chrono::milliseconds(10));  // [ms] short against a 100 ms e-stop bound
+  accept_retry_.expires_after(
+      std::chrono::milliseconds(10));  // [ms] short against a 100 ms e-stop bound
   accept_retry_.async_wait([this](const boost::system::error_code& ec) {
     if (!ec && acceptor_.is_open()) accept();
   });
@@ -111,10 +119,13 @@ void ApiServer::admit(boost::asio::ip::tcp::socket&& socket) {
 
 void ApiServer::warn_of_eviction() {
   const auto now = std::chrono::steady_clock::now();
-  if (now - last_eviction_warning_ < std::chrono::seconds(1)) return;  // at most one line a second in a flood
+  if (now - last_eviction_warning_ < std::chrono::seconds(1))
+    return;  // at most one line a second in a flood
   last_eviction_warning_ = now;
-  spdlog::warn("api: {} connections wait for stop/e-stop only: closing the oldest for each new one ({} closed so far)",
-               safety_only_.waiting(), context_->counters.connections_evicted.load());
+  spdlog::warn(
+      "api: {} connections wait for stop/e-stop only: closing the oldest for each new one ({} "
+      "closed so far)",
+      safety_only_.waiting(), context_->counters.connections_evicted.load());
 }
 
 void ApiServer::publish(std::shared_ptr<const std::string> message) {

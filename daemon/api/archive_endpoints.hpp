@@ -29,16 +29,20 @@ class ArchiveEndpoints {
   // what: "" (details, metadata, events), "/csv" (the whole run), "/samples" (decimated),
   // "/stream" (every sample from ?from=CYCLE with model, events, frames: run_replay.hpp),
   // "/frames/N" (frame N's grey pixels).
-  void get_run(const Request& request, std::int64_t run_id, const std::string& what, Responder respond);
+  void get_run(const Request& request, std::int64_t run_id, const std::string& what,
+               Responder respond);
   // Creates the run's row, then calls then(run_id) on the I/O thread (errors are answered).
-  void create_run(const Request& request, archive::NewRun row, std::function<void(std::int64_t)> then, Responder respond);
+  void create_run(const Request& request, archive::NewRun row,
+                  std::function<void(std::int64_t)> then, Responder respond);
   // The loop refused the run: the row never held a sample, so it goes (no 'cancelled' rows).
   void discard_refused_run(std::int64_t run_id, const std::string& why);
 
  private:
-  void get_replay(const Request& request, std::int64_t run_id, const std::string& what, Responder respond);
+  void get_replay(const Request& request, std::int64_t run_id, const std::string& what,
+                  Responder respond);
   // Runs work on the archive thread; its response (or the error) is sent from the I/O thread.
-  void on_archive(const Request& request, Responder respond, std::function<Response(archive::Archive&)> work);
+  void on_archive(const Request& request, Responder respond,
+                  std::function<Response(archive::Archive&)> work);
   archive::Archive& archive();
 
   boost::asio::io_context* io_;

@@ -24,7 +24,8 @@ std::string percent_decoded(const std::string& text) {
   std::string out;
   out.reserve(text.size());
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '%' && i + 2 < text.size() && std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
+    if (text[i] == '%' && i + 2 < text.size() &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
         std::isxdigit(static_cast<unsigned char>(text[i + 2]))) {
       out.push_back(static_cast<char>(std::stoi(text.substr(i + 1, 2), nullptr, 16)));
       i += 2;
@@ -50,7 +51,8 @@ std::string query_token(const std::string& target) {
 
 std::string load_token(const std::string& path) {
   struct stat info {};
-  if (stat(path.c_str(), &info) != 0) throw std::runtime_error("api.token_file " + path + ": cannot read it");
+  if (stat(path.c_str(), &info) != 0)
+    throw std::runtime_error("api.token_file " + path + ": cannot read it");
   if ((info.st_mode & (S_IRWXG | S_IRWXO)) != 0) {
     throw std::runtime_error("api.token_file " + path + ": readable by others (chmod 600 it)");
   }
@@ -58,7 +60,8 @@ std::string load_token(const std::string& path) {
   std::string token;
   std::getline(in, token);
   while (!token.empty() && (token.back() == '\r' || token.back() == ' ')) token.pop_back();
-  if (token.size() < 16) throw std::runtime_error("api.token_file " + path + ": token shorter than 16 characters");
+  if (token.size() < 16)
+    throw std::runtime_error("api.token_file " + path + ": token shorter than 16 characters");
   return token;
 }
 

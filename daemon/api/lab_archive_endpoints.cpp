@@ -1,7 +1,7 @@
 #include "lab_archive_endpoints.hpp"
 
-#include <boost/asio/post.hpp>
 #include <spdlog/spdlog.h>
+#include <boost/asio/post.hpp>
 
 #include <stdexcept>
 
@@ -17,17 +17,23 @@ constexpr std::size_t kPickerRuns = 500;  // the newest runs the picker lists
 
 }  // namespace
 
-LabArchiveEndpoints::LabArchiveEndpoints(boost::asio::io_context& io, ApiContext& context) : io_(&io), context_(&context) {}
+LabArchiveEndpoints::LabArchiveEndpoints(boost::asio::io_context& io, ApiContext& context)
+    : io_(&io), context_(&context) {}
 
-LabArchiveEndpoints::~LabArchiveEndpoints() { pool_.join(); }
+LabArchiveEndpoints::~LabArchiveEndpoints() {
+  pool_.join();
+}
 
 void LabArchiveEndpoints::on_pool(const Request& request, Responder respond, Work work) {
   if (context_->lab_archive_connection.empty()) {
-    return respond(error_response(request, http::status::service_unavailable,
-                                  "the lab archive is off on this rig ([lab_archive] enabled = false)"));
+    return respond(
+        error_response(request, http::status::service_unavailable,
+                       "the lab archive is off on this rig ([lab_archive] enabled = false)"));
   }
   auto connection = context_->lab_archive_connection;
-  boost::asio::post(pool_, [this, request, respond = std::move(respond), work = std::move(work), connection]() mutable {
+  // NOLINTNEXTLINE(bugprone-exception-escape): the closure's implicit move (clang-tidy 14)
+  boost::asio::post(pool_, [this, request, respond = std::move(respond), work = std::move(work),
+                            connection]() mutable {
     Response response;
     try {
       response = make_response(request, http::status::ok, work(connection));
@@ -39,7 +45,10 @@ void LabArchiveEndpoints::on_pool(const Request& request, Responder respond, Wor
       spdlog::warn("api: {}: {}", std::string(request.target()), e.what());
       response = error_response(request, http::status::bad_gateway, e.what());
     }
-    boost::asio::post(*io_, [respond = std::move(respond), response = std::move(response)]() mutable { respond(std::move(response)); });
+    boost::asio::post(*io_,
+                      [respond = std::move(respond), response = std::move(response)]() mutable {
+                        respond(std::move(response));
+                      });
   });
 }
 
@@ -56,7 +65,8 @@ void LabArchiveEndpoints::get_runs(const Request& request, Responder respond) {
   });
 }
 
-void LabArchiveEndpoints::get_stream(const Request& request, const std::string& run_uuid, Responder respond) {
+void LabArchiveEndpoints::get_stream(const Request& request, const std::string& run_uuid,
+                                     Responder respond) {
   ReplayQuery query;
   try {
     query = parse_replay_query(std::string(request.target()));

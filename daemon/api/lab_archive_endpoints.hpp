@@ -27,7 +27,8 @@ class LabArchiveEndpoints {
   void get_stream(const Request& request, const std::string& run_uuid, Responder respond);
 
  private:
-  using Work = std::function<std::string(const std::vector<std::pair<std::string, std::string>>& connection)>;
+  using Work = std::function<std::string(
+      const std::vector<std::pair<std::string, std::string>>& connection)>;
   // Runs work on the pool; its JSON (or the error, as 400/404/502) is sent from the I/O thread.
   void on_pool(const Request& request, Responder respond, Work work);
 

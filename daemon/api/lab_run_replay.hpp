@@ -22,8 +22,8 @@ namespace rig::api {
 std::vector<std::string> parse_lab_run_filters(const std::string& target);
 
 // {"runs": [...]} newest last, at most `newest` of them (the picker's list).
-std::string lab_run_list_json(lab_archive::LabRunReader& reader, const std::vector<std::string>& filters,
-                              std::size_t newest);
+std::string lab_run_list_json(lab_archive::LabRunReader& reader,
+                              const std::vector<std::string>& filters, std::size_t newest);
 
 // The run's samples from the query's sample index on, its events; no camera frames (the lab
 // archive keeps their index, not their pixels). Throws std::out_of_range if there is no such

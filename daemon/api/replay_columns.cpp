@@ -9,14 +9,16 @@
 
 namespace rig::api {
 
-ReplayColumns::ReplayColumns(std::shared_ptr<const model::ForceModel> model, double surface_mm, double iop_mmHg)
+ReplayColumns::ReplayColumns(std::shared_ptr<const model::ForceModel> model, double surface_mm,
+                             double iop_mmHg)
     : model_(std::move(model)), surface_mm_(surface_mm), iop_mmHg_(iop_mmHg) {}
 
-void ReplayColumns::add(std::int64_t cycle, double t_s, double position_mm, double force_N, double iop_mmHg,
-                        rt::CutPhase phase) {
+void ReplayColumns::add(std::int64_t cycle, double t_s, double position_mm, double force_N,
+                        double iop_mmHg, rt::CutPhase phase) {
   const double x_mm = position_mm - surface_mm_;
-  const double m = model_ ? service::StreamHub::predict_at(*model_, phase, x_mm, iop_mmHg_, hold_x_mm_)
-                          : std::numeric_limits<double>::quiet_NaN();
+  const double m = model_
+                       ? service::StreamHub::predict_at(*model_, phase, x_mm, iop_mmHg_, hold_x_mm_)
+                       : std::numeric_limits<double>::quiet_NaN();
   cycle_.push_back(cycle);
   t_.push_back(t_s);
   x_.push_back(x_mm);

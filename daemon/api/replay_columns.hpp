@@ -21,7 +21,8 @@ class ReplayColumns {
   // the corneal surface; iop [mmHg]: the run's IOP, at which the model is drawn.
   ReplayColumns(std::shared_ptr<const model::ForceModel> model, double surface_mm, double iop_mmHg);
   // One sample; iop_mmHg may be NaN (not recorded).
-  void add(std::int64_t cycle, double t_s, double position_mm, double force_N, double iop_mmHg, rt::CutPhase phase);
+  void add(std::int64_t cycle, double t_s, double position_mm, double force_N, double iop_mmHg,
+           rt::CutPhase phase);
   std::size_t size() const { return cycle_.size(); }
   // Writes the columns, next_cycle, more, surface_mm and model_iop_mmHg into j.
   void write(nlohmann::json& j, std::int64_t from_cycle, bool more) const;

@@ -10,7 +10,8 @@ namespace rig::api {
 namespace {
 
 std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
@@ -84,16 +85,19 @@ bool RequestGuard::host_allowed(const std::string& host) const {
   return std::find(allowed_hosts_.begin(), allowed_hosts_.end(), host) != allowed_hosts_.end();
 }
 
-bool RequestGuard::origin_allowed(const std::string& origin_header, const std::string& host_header) const {
+bool RequestGuard::origin_allowed(const std::string& origin_header,
+                                  const std::string& host_header) const {
   std::string origin = lower(trimmed(origin_header));
   while (!origin.empty() && origin.back() == '/') origin.pop_back();
   const std::string authority = origin_authority(origin);
   if (authority.empty()) return false;  // "null", file://, extensions: not a page of ours
   if (authority == lower(trimmed(host_header))) return true;  // same origin as the request's Host
-  return std::find(allowed_origins_.begin(), allowed_origins_.end(), origin) != allowed_origins_.end();
+  return std::find(allowed_origins_.begin(), allowed_origins_.end(), origin) !=
+         allowed_origins_.end();
 }
 
-std::optional<std::string> RequestGuard::refusal(const Request& request, bool state_changing) const {
+std::optional<std::string> RequestGuard::refusal(const Request& request,
+                                                 bool state_changing) const {
   const std::string host_header(request[http::field::host]);
   if (!host_allowed(host_without_port(host_header))) {
     return "Host '" + host_header + "' is not this rigd (add its origin to api.allowed_origins)";

@@ -8,10 +8,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "json_text.hpp"
 #include "replay_columns.hpp"
 #include "run_types.hpp"
 #include "sqlite_handle.hpp"
-#include "json_text.hpp"
 
 namespace rig::api {
 namespace {
@@ -59,8 +59,9 @@ RunInfo run_info(archive::Database& db, std::int64_t run_id) {
 // is refused, naming the run and the sample (the phase names are a table indexed by it).
 rt::CutPhase phase_of(std::int64_t phase, std::int64_t run_id, std::int64_t idx) {
   if (phase < 0 || phase > static_cast<std::int64_t>(rt::CutPhase::kRetract)) {
-    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample " + std::to_string(idx) + ": phase " +
-                             std::to_string(phase) + " is not a cut phase (0..4)");
+    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample " +
+                             std::to_string(idx) + ": phase " + std::to_string(phase) +
+                             " is not a cut phase (0..4)");
   }
   return static_cast<rt::CutPhase>(phase);
 }
@@ -69,8 +70,8 @@ rt::CutPhase phase_of(std::int64_t phase, std::int64_t run_id, std::int64_t idx)
 // asks for the cycle after the last, so the largest integer is refused, naming the run.
 std::int64_t cycle_of(std::int64_t idx, std::int64_t run_id) {
   if (idx == std::numeric_limits<std::int64_t>::max()) {
-    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample index " + std::to_string(idx) +
-                             " is not a loop cycle (0 .. 2^63-2)");
+    throw std::runtime_error("archive run " + std::to_string(run_id) + ": sample index " +
+                             std::to_string(idx) + " is not a loop cycle (0 .. 2^63-2)");
   }
   return idx;
 }
@@ -143,13 +144,17 @@ namespace {
 // the archive's row holds the size, and a damaged row asked for terabytes (or /dev/zero).
 void require_frame_in_file(const archive::FrameRow& f) {
   std::error_code ec;
-  const std::uintmax_t file_bytes = std::filesystem::is_regular_file(f.file, ec) ? std::filesystem::file_size(f.file, ec) : 0;
-  const bool inside = !ec && f.bytes >= 0 && f.file_offset >= 0 && static_cast<std::uintmax_t>(f.file_offset) <= file_bytes &&
-                      static_cast<std::uintmax_t>(f.bytes) <= file_bytes - static_cast<std::uintmax_t>(f.file_offset);
+  const std::uintmax_t file_bytes =
+      std::filesystem::is_regular_file(f.file, ec) ? std::filesystem::file_size(f.file, ec) : 0;
+  const bool inside = !ec && f.bytes >= 0 && f.file_offset >= 0 &&
+                      static_cast<std::uintmax_t>(f.file_offset) <= file_bytes &&
+                      static_cast<std::uintmax_t>(f.bytes) <=
+                          file_bytes - static_cast<std::uintmax_t>(f.file_offset);
   if (!inside) {
-    throw std::runtime_error("archive run " + std::to_string(f.run_id) + ": frame " + std::to_string(f.frame_no) + ": " +
-                             std::to_string(f.bytes) + " B at offset " + std::to_string(f.file_offset) +
-                             " are not in its frame file " + f.file + " (" + std::to_string(file_bytes) + " B)");
+    throw std::runtime_error(
+        "archive run " + std::to_string(f.run_id) + ": frame " + std::to_string(f.frame_no) + ": " +
+        std::to_string(f.bytes) + " B at offset " + std::to_string(f.file_offset) +
+        " are not in its frame file " + f.file + " (" + std::to_string(file_bytes) + " B)");
   }
 }
 

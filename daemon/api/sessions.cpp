@@ -10,13 +10,17 @@ namespace rig::api {
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 
-HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot)
+HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server,
+                         std::unique_ptr<ConnectionSlot> slot)
     : stream_(std::move(socket)), server_(&server), slot_(std::move(slot)), safety_only_(false) {
   server_->context().counters.open_connections.fetch_add(1);
 }
 
 HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::string why)
-    : stream_(std::move(socket)), server_(&server), safety_only_(true), safety_only_reason_(std::move(why)) {
+    : stream_(std::move(socket)),
+      server_(&server),
+      safety_only_(true),
+      safety_only_reason_(std::move(why)) {
   server_->context().counters.open_connections.fetch_add(1);
   server_->context().counters.safety_only_connections.fetch_add(1);
 }
@@ -48,8 +52,11 @@ void HttpSession::read() {
   parser_.emplace();
   parser_->body_limit(static_cast<std::uint64_t>(server_->context().config->api.max_body_bytes));
   parser_->header_limit(16 * 1024);
-  stream_.expires_after(safety_only_ ? kSafetyOnlyReadTimeout : kReadTimeout);  // a silent client is dropped
-  http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
+  stream_.expires_after(safety_only_ ? kSafetyOnlyReadTimeout
+                                     : kReadTimeout);  // a silent client is dropped
+  http::async_read(
+      stream_, buffer_, *parser_,
+      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->on_read(ec); });
 }
 
 void HttpSession::on_read(beast::error_code ec) {
@@ -60,7 +67,8 @@ void HttpSession::on_read(beast::error_code ec) {
   }
   if (ec == http::error::body_limit) {
     Request empty;
-    send(error_response(empty, http::status::payload_too_large, "request body larger than api.max_body_bytes"));
+    send(error_response(empty, http::status::payload_too_large,
+                        "request body larger than api.max_body_bytes"));
     return;
   }
   if (ec) return;
@@ -74,8 +82,11 @@ void HttpSession::serve(Request&& request) {
   }
   if (safety_only_) request.keep_alive(false);
   const std::string target(request.target());
-  if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws") return upgrade(std::move(request));
-  server_->router().handle(request, [self = shared_from_this()](Response&& response) { self->send(std::move(response)); });
+  if (websocket::is_upgrade(request) && target.substr(0, target.find('?')) == "/ws")
+    return upgrade(std::move(request));
+  server_->router().handle(request, [self = shared_from_this()](Response&& response) {
+    self->send(std::move(response));
+  });
 }
 
 void HttpSession::upgrade(Request&& request) {
@@ -86,32 +97,36 @@ void HttpSession::upgrade(Request&& request) {
   }
   if (!server_->context().auth.authorized(request)) {
     server_->context().counters.refused_unauthorized.fetch_add(1);
-    return send(error_response(request, http::status::unauthorized, "a valid API token is required"));
+    return send(
+        error_response(request, http::status::unauthorized, "a valid API token is required"));
   }
   stream_.expires_never();
-  std::make_shared<WsSession>(stream_.release_socket(), *server_, std::move(slot_))->run(std::move(request));
+  std::make_shared<WsSession>(stream_.release_socket(), *server_, std::move(slot_))->run(request);
 }
 
 void HttpSession::send(Response&& response) {
   auto shared = std::make_shared<Response>(std::move(response));
-  http::async_write(stream_, *shared, [self = shared_from_this(), shared](beast::error_code ec, std::size_t) {
-    if (ec) return;
-    if (!shared->keep_alive()) {
-      self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ec);
-      return;
-    }
-    self->read();
-  });
+  http::async_write(
+      stream_, *shared, [self = shared_from_this(), shared](beast::error_code ec, std::size_t) {
+        if (ec) return;
+        if (!shared->keep_alive()) {
+          self->stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ec);
+          return;
+        }
+        self->read();
+      });
 }
 
-WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot)
+WsSession::WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server,
+                     std::unique_ptr<ConnectionSlot> slot)
     : ws_(std::move(socket)), server_(&server), slot_(std::move(slot)) {}
 
-void WsSession::run(Request request) {
+void WsSession::run(const Request& request) {
   // Bounded kernel buffer per client (~2 s of stream): a client that stops reading fills it
   // quickly, and then loses its own oldest messages in our queue, counted.
   boost::system::error_code ignored;
-  beast::get_lowest_layer(ws_).socket().set_option(boost::asio::socket_base::send_buffer_size(256 * 1024), ignored);
+  beast::get_lowest_layer(ws_).socket().set_option(
+      boost::asio::socket_base::send_buffer_size(256 * 1024), ignored);
   ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
   ws_.read_message_max(4096);  // clients only send pings
   ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
@@ -119,7 +134,8 @@ void WsSession::run(Request request) {
     self->open_ = true;
     self->server_->add_stream_client(self);
     const double iop = self->server_->context().channels->status.read().params.iop_mmHg;
-    self->send(std::make_shared<const std::string>(self->server_->context().hub->model_curve_json(iop)));
+    self->send(
+        std::make_shared<const std::string>(self->server_->context().hub->model_curve_json(iop)));
     self->read();
   });
 }
@@ -141,12 +157,13 @@ void WsSession::write_next() {
   }
   writing_ = true;
   ws_.text(true);
-  ws_.async_write(boost::asio::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-    if (ec) return self->close();
-    self->server_->context().counters.ws_messages_sent.fetch_add(1);
-    self->queue_.pop_front();
-    self->write_next();
-  });
+  ws_.async_write(boost::asio::buffer(*queue_.front()),
+                  [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                    if (ec) return self->close();
+                    self->server_->context().counters.ws_messages_sent.fetch_add(1);
+                    self->queue_.pop_front();
+                    self->write_next();
+                  });
 }
 
 void WsSession::read() {

@@ -29,7 +29,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   static constexpr std::chrono::seconds kSafetyOnlyReadTimeout{2};
 
   // A general connection, holding `slot` (connection_limits.hpp).
-  HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot);
+  HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server,
+              std::unique_ptr<ConnectionSlot> slot);
   // A connection refused a general slot for `why`: served stop / e-stop only, queued for
   // eviction until its request is read, and closed after one answer.
   HttpSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::string why);
@@ -53,7 +54,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   ApiServer* server_;
   std::unique_ptr<ConnectionSlot> slot_;  // general connections; handed to a WebSocket session
   const bool safety_only_;
-  std::string safety_only_reason_;  // the 503's text for any other request
+  std::string safety_only_reason_;                       // the 503's text for any other request
   std::optional<SafetyOnlyQueue::Place> waiting_place_;  // while safety-only and unread
 };
 
@@ -62,8 +63,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   static constexpr std::size_t kMaxQueuedMessages = 64;  // ~3 s of 50 ms batches
 
   // slot: the general connection slot of the HTTP session it was upgraded from.
-  WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server, std::unique_ptr<ConnectionSlot> slot);
-  void run(Request request);
+  WsSession(boost::asio::ip::tcp::socket&& socket, ApiServer& server,
+            std::unique_ptr<ConnectionSlot> slot);
+  void run(const Request& request);
   void send(std::shared_ptr<const std::string> message);  // I/O thread
 
  private:

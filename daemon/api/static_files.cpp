@@ -37,7 +37,8 @@ Response serve_static(const Request& request, const std::string& web_root) {
   std::error_code ec;
   const std::filesystem::path root = std::filesystem::weakly_canonical(web_root, ec);
   const std::filesystem::path file = std::filesystem::weakly_canonical(root / target.substr(1), ec);
-  const auto [root_end, file_it] = std::mismatch(root.begin(), root.end(), file.begin(), file.end());
+  const auto [root_end, file_it] =
+      std::mismatch(root.begin(), root.end(), file.begin(), file.end());
   if (ec || root_end != root.end() || !std::filesystem::is_regular_file(file)) {
     return error_response(request, http::status::not_found, "no such file: " + target);
   }

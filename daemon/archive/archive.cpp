@@ -12,7 +12,8 @@ namespace rig::archive {
 std::string utc_now_iso8601() {
   const auto now = std::chrono::system_clock::now();
   const std::time_t seconds = std::chrono::system_clock::to_time_t(now);
-  const auto ms = std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
+  const auto ms =
+      std::chrono::duration_cast<std::chrono::milliseconds>(now.time_since_epoch()).count() % 1000;
   std::tm utc{};
   gmtime_r(&seconds, &utc);
   char text[40];
@@ -34,39 +35,54 @@ Archive::Archive(const std::string& path, bool read_only) : db_(path, read_only)
   create_schema();
 }
 
-void Archive::defer_checkpoints() { db_.exec("PRAGMA wal_autocheckpoint=0;"); }
+void Archive::defer_checkpoints() {
+  db_.exec("PRAGMA wal_autocheckpoint=0;");
+}
 
 // NORMAL in WAL mode still syncs the log before each checkpoint and the database after it.
-void Archive::defer_log_syncs() { db_.exec("PRAGMA synchronous=NORMAL;"); }
+void Archive::defer_log_syncs() {
+  db_.exec("PRAGMA synchronous=NORMAL;");
+}
 
-void Archive::create_schema() { SchemaMigrations::bring_up_to_date(db_); }
+void Archive::create_schema() {
+  SchemaMigrations::bring_up_to_date(db_);
+}
 
 std::int64_t Archive::create_run(const NewRun& run) {
   Statement q = db_.prepare(
-      "INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, operator, notes,"
+      "INSERT INTO runs (eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, "
+      "operator, notes,"
       " config_hash, software_version, surface_mm, rate_hz, created_at, outcome, source)"
       " VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,'armed','rig')");
   q.bind(1, run.eye_id).bind(2, run.iop_mmHg).bind(3, run.velocity_mm_s).bind(4, run.depth_mm);
   q.bind(5, run.hold_s).bind(6, run.post_mortem_h).bind(7, run.operator_name).bind(8, run.notes);
-  q.bind(9, run.config_hash).bind(10, run.software_version).bind(11, run.surface_mm).bind(12, run.rate_hz);
+  q.bind(9, run.config_hash)
+      .bind(10, run.software_version)
+      .bind(11, run.surface_mm)
+      .bind(12, run.rate_hz);
   q.bind(13, utc_now_iso8601());
   q.run();
   const std::int64_t id = db_.last_insert_id();
   Statement meta = db_.prepare("INSERT INTO run_meta (run_id, seq, key, value) VALUES (?,?,?,?)");
   std::int64_t seq = 0;
-  for (const auto& [key, value] : run.meta) meta.bind(1, id).bind(2, seq++).bind(3, key).bind(4, value).run();
+  for (const auto& [key, value] : run.meta)
+    meta.bind(1, id).bind(2, seq++).bind(3, key).bind(4, value).run();
   return id;
 }
 
 void Archive::mark_started(std::int64_t run_id) {
-  db_.prepare("UPDATE runs SET outcome='recording', started_at=? WHERE id=?").bind(1, utc_now_iso8601()).bind(2, run_id).run();
+  db_.prepare("UPDATE runs SET outcome='recording', started_at=? WHERE id=?")
+      .bind(1, utc_now_iso8601())
+      .bind(2, run_id)
+      .run();
 }
 
 void Archive::discard_unstarted_run(std::int64_t run_id) {
   begin();
   try {
     Statement q = db_.prepare(
-        "SELECT COUNT(*) FROM runs WHERE id=? AND outcome='armed' AND NOT EXISTS (SELECT 1 FROM samples WHERE run_id=?)");
+        "SELECT COUNT(*) FROM runs WHERE id=? AND outcome='armed' AND NOT EXISTS (SELECT 1 FROM "
+        "samples WHERE run_id=?)");
     q.bind(1, run_id).bind(2, run_id);
     const bool unstarted = q.step() && q.integer(0) == 1;
     q.reset();
@@ -81,9 +97,14 @@ void Archive::discard_unstarted_run(std::int64_t run_id) {
   }
 }
 
-void Archive::finish_run(std::int64_t run_id, const std::string& outcome, const std::string& reason) {
+void Archive::finish_run(std::int64_t run_id, const std::string& outcome,
+                         const std::string& reason) {
   db_.prepare("UPDATE runs SET outcome=?, reason=?, ended_at=? WHERE id=?")
-      .bind(1, outcome).bind(2, reason).bind(3, utc_now_iso8601()).bind(4, run_id).run();
+      .bind(1, outcome)
+      .bind(2, reason)
+      .bind(3, utc_now_iso8601())
+      .bind(4, run_id)
+      .run();
 }
 
 int Archive::recover_interrupted() {
@@ -91,7 +112,8 @@ int Archive::recover_interrupted() {
   int count = 0;
   for (const auto& row : before) {
     if (row.outcome == "recording") {
-      finish_run(row.id, "interrupted", "rigd stopped while recording; samples up to the last commit are kept");
+      finish_run(row.id, "interrupted",
+                 "rigd stopped while recording; samples up to the last commit are kept");
       ++count;
     } else if (row.outcome == "armed") {
       // Killed while armed: the run was interrupted by the crash, not cancelled by anyone.
@@ -125,21 +147,34 @@ void Archive::rollback() noexcept {
 
 void Archive::append_sample(const rt::Sample& s) {
   if (!insert_sample_) {
-    insert_sample_.emplace(db_.prepare(
-        "INSERT OR REPLACE INTO samples (run_id, idx, t_s, position_mm, force_N, iop_mmHg, velocity_mm_s,"
-        " motor_V, pump, state, phase, io_ok) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)"));
+    insert_sample_.emplace(
+        db_.prepare("INSERT OR REPLACE INTO samples (run_id, idx, t_s, position_mm, force_N, "
+                    "iop_mmHg, velocity_mm_s,"
+                    " motor_V, pump, state, phase, io_ok) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)"));
   }
   Statement& q = *insert_sample_;
-  q.bind(1, s.run_id).bind(2, static_cast<std::int64_t>(s.cycle)).bind(3, s.t_s).bind(4, s.position_mm);
-  q.bind(5, s.force_N).bind(6, s.iop_mmHg).bind(7, s.velocity_mm_s).bind(8, s.motor_volts).bind(9, s.pump_command);
+  q.bind(1, s.run_id)
+      .bind(2, static_cast<std::int64_t>(s.cycle))
+      .bind(3, s.t_s)
+      .bind(4, s.position_mm);
+  q.bind(5, s.force_N)
+      .bind(6, s.iop_mmHg)
+      .bind(7, s.velocity_mm_s)
+      .bind(8, s.motor_volts)
+      .bind(9, s.pump_command);
   q.bind(10, static_cast<std::int64_t>(s.state)).bind(11, static_cast<std::int64_t>(s.phase));
   q.bind(12, static_cast<std::int64_t>(s.io_ok));
   q.run();
 }
 
-void Archive::add_event(std::int64_t run_id, double t_s, const std::string& kind, const std::string& message) {
+void Archive::add_event(std::int64_t run_id, double t_s, const std::string& kind,
+                        const std::string& message) {
   db_.prepare("INSERT INTO events (run_id, t_s, kind, message) VALUES (?,?,?,?)")
-      .bind(1, run_id).bind(2, t_s).bind(3, kind).bind(4, message).run();
+      .bind(1, run_id)
+      .bind(2, t_s)
+      .bind(3, kind)
+      .bind(4, message)
+      .run();
 }
 
 RunRow Archive::read_row(Statement& q) {
@@ -160,8 +195,10 @@ RunRow Archive::read_row(Statement& q) {
 
 std::vector<RunRow> Archive::list_runs() {
   Statement q = db_.prepare(
-      "SELECT id, eye_id, iop_mmHg, velocity_mm_s, depth_mm, started_at, ended_at, outcome, reason, source,"
-      " created_at, (SELECT COUNT(*) FROM samples s WHERE s.run_id = runs.id) FROM runs ORDER BY id");
+      "SELECT id, eye_id, iop_mmHg, velocity_mm_s, depth_mm, started_at, ended_at, outcome, "
+      "reason, source,"
+      " created_at, (SELECT COUNT(*) FROM samples s WHERE s.run_id = runs.id) FROM runs ORDER BY "
+      "id");
   std::vector<RunRow> rows;
   while (q.step()) rows.push_back(read_row(q));
   return rows;
@@ -169,8 +206,10 @@ std::vector<RunRow> Archive::list_runs() {
 
 std::optional<RunRow> Archive::find_run(std::int64_t run_id) {
   Statement q = db_.prepare(
-      "SELECT id, eye_id, iop_mmHg, velocity_mm_s, depth_mm, started_at, ended_at, outcome, reason, source,"
-      " created_at, (SELECT COUNT(*) FROM samples s WHERE s.run_id = runs.id) FROM runs WHERE id = ?");
+      "SELECT id, eye_id, iop_mmHg, velocity_mm_s, depth_mm, started_at, ended_at, outcome, "
+      "reason, source,"
+      " created_at, (SELECT COUNT(*) FROM samples s WHERE s.run_id = runs.id) FROM runs WHERE id = "
+      "?");
   q.bind(1, run_id);
   if (!q.step()) return std::nullopt;
   return read_row(q);
@@ -180,12 +219,14 @@ std::vector<std::pair<std::string, std::string>> Archive::run_meta(std::int64_t 
   std::vector<std::pair<std::string, std::string>> meta;
   Statement q = db_.prepare(
       "SELECT eye_id, iop_mmHg, velocity_mm_s, depth_mm, hold_s, post_mortem_h, operator, notes,"
-      " config_hash, software_version, started_at, outcome, reason, source, surface_mm FROM runs WHERE id = ?");
+      " config_hash, software_version, started_at, outcome, reason, source, surface_mm FROM runs "
+      "WHERE id = ?");
   q.bind(1, run_id);
   if (!q.step()) return meta;
-  const char* names[] = {"eye_id", "iop_mmHg", "velocity_mm_s", "depth_mm", "hold_s", "post_mortem_h",
-                         "operator", "notes", "config_hash", "software_version", "started_at",
-                         "outcome", "reason", "source"};
+  const char* names[] = {
+      "eye_id",        "iop_mmHg", "velocity_mm_s", "depth_mm",    "hold_s",
+      "post_mortem_h", "operator", "notes",         "config_hash", "software_version",
+      "started_at",    "outcome",  "reason",        "source"};
   for (int i = 0; i < 14; ++i) {
     if (q.is_null(i)) continue;
     const bool numeric = i >= 1 && i <= 5;
@@ -201,7 +242,8 @@ std::vector<std::pair<std::string, std::string>> Archive::run_meta(std::int64_t 
 
 std::vector<EventRow> Archive::run_events(std::int64_t run_id) {
   std::vector<EventRow> events;
-  Statement q = db_.prepare("SELECT t_s, kind, message FROM events WHERE run_id = ? ORDER BY rowid");
+  Statement q =
+      db_.prepare("SELECT t_s, kind, message FROM events WHERE run_id = ? ORDER BY rowid");
   q.bind(1, run_id);
   while (q.step()) events.push_back({q.real(0), q.text(1), q.text(2)});
   return events;

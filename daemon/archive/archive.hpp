@@ -39,7 +39,8 @@ struct RunRow {
   std::optional<double> depth_mm;
   std::string started_at;
   std::string ended_at;
-  std::string outcome;  // armed, recording, completed, stopped, fault, cancelled, interrupted, imported
+  std::string
+      outcome;  // armed, recording, completed, stopped, fault, cancelled, interrupted, imported
   std::string reason;
   std::string source;
   std::int64_t samples = 0;
@@ -55,14 +56,14 @@ struct EventRow {
 // cycle) its exposure was triggered at.
 struct FrameRow {
   std::int64_t run_id = 0;
-  std::int64_t frame_no = 0;      // 0, 1, ... in the run
-  std::int64_t sample_index = -1; // loop cycle of the trigger (-1: free-running, not tied)
-  std::int64_t camera_ts_ns = 0;  // camera's clock
-  std::int64_t host_ts_ns = 0;    // CLOCK_MONOTONIC at arrival
-  std::int64_t file_offset = 0;   // [B] into the frame file
+  std::int64_t frame_no = 0;       // 0, 1, ... in the run
+  std::int64_t sample_index = -1;  // loop cycle of the trigger (-1: free-running, not tied)
+  std::int64_t camera_ts_ns = 0;   // camera's clock
+  std::int64_t host_ts_ns = 0;     // CLOCK_MONOTONIC at arrival
+  std::int64_t file_offset = 0;    // [B] into the frame file
   std::int64_t bytes = 0;
   int width = 0, height = 0;
-  std::string file;               // the run's frame file
+  std::string file;  // the run's frame file
 };
 
 class Archive {
@@ -97,7 +98,8 @@ class Archive {
   void commit();
   void rollback() noexcept;  // after a failed write: drop the open transaction, if any
   void append_sample(const rt::Sample& sample);
-  void add_event(std::int64_t run_id, double t_s, const std::string& kind, const std::string& message);
+  void add_event(std::int64_t run_id, double t_s, const std::string& kind,
+                 const std::string& message);
 
   std::vector<RunRow> list_runs();
   std::optional<RunRow> find_run(std::int64_t run_id);
@@ -105,14 +107,14 @@ class Archive {
   std::vector<EventRow> run_events(std::int64_t run_id);
   // The run as run-CSV data: t from its first sample, x from first contact.
   model::RunData load_run(std::int64_t run_id);
-  void add_frame(const FrameRow& frame);                 // archive_frames.cpp
+  void add_frame(const FrameRow& frame);  // archive_frames.cpp
   std::vector<FrameRow> run_frames(std::int64_t run_id);
   std::int64_t import_run(const model::RunData& run);
   const std::string& path() const { return db_.path(); }
 
  private:
   void create_schema();
-  std::int64_t import_run_row(const model::RunData& run);             // archive_runs.cpp
+  std::int64_t import_run_row(const model::RunData& run);  // archive_runs.cpp
   void import_samples(std::int64_t id, const model::RunData& run);
   void remove_run_rows(std::int64_t id) noexcept;
   RunRow read_row(Statement& q);

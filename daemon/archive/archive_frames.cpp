@@ -6,9 +6,14 @@ namespace rig::archive {
 
 void Archive::add_frame(const FrameRow& f) {
   Statement q = db_.prepare(
-      "INSERT INTO frames (run_id, frame_no, sample_index, camera_ts_ns, host_ts_ns, file, file_offset, bytes, width, height) "
+      "INSERT INTO frames (run_id, frame_no, sample_index, camera_ts_ns, host_ts_ns, file, "
+      "file_offset, bytes, width, height) "
       "VALUES (?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
-  q.bind(1, f.run_id).bind(2, f.frame_no).bind(3, f.sample_index).bind(4, f.camera_ts_ns).bind(5, f.host_ts_ns);
+  q.bind(1, f.run_id)
+      .bind(2, f.frame_no)
+      .bind(3, f.sample_index)
+      .bind(4, f.camera_ts_ns)
+      .bind(5, f.host_ts_ns);
   q.bind(6, f.file).bind(7, f.file_offset).bind(8, f.bytes);
   q.bind(9, static_cast<std::int64_t>(f.width)).bind(10, static_cast<std::int64_t>(f.height));
   q.run();
@@ -16,7 +21,8 @@ void Archive::add_frame(const FrameRow& f) {
 
 std::vector<FrameRow> Archive::run_frames(std::int64_t run_id) {
   Statement q = db_.prepare(
-      "SELECT frame_no, sample_index, camera_ts_ns, host_ts_ns, file, file_offset, bytes, width, height FROM frames "
+      "SELECT frame_no, sample_index, camera_ts_ns, host_ts_ns, file, file_offset, bytes, width, "
+      "height FROM frames "
       "WHERE run_id = ? ORDER BY frame_no");
   q.bind(1, run_id);
   std::vector<FrameRow> rows;

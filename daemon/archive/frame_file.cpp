@@ -17,7 +17,8 @@ FrameFile::FrameFile(const std::string& path) : path_(path), file_(std::fopen(pa
   size_ = std::ftell(file_.get());
   if (size_ == 0) {
     if (std::fwrite(kMagic, 1, sizeof kMagic, file_.get()) != sizeof kMagic) {
-      throw std::runtime_error("frame file " + path + ": cannot write the header: " + std::strerror(errno));
+      throw std::runtime_error("frame file " + path +
+                               ": cannot write the header: " + std::strerror(errno));
     }
     size_ = sizeof kMagic;
   }
@@ -25,7 +26,8 @@ FrameFile::FrameFile(const std::string& path) : path_(path), file_(std::fopen(pa
 
 std::int64_t FrameFile::append(std::span<const std::uint8_t> pixels) {
   const std::int64_t offset = size_;
-  if (std::fwrite(pixels.data(), 1, pixels.size(), file_.get()) != pixels.size() || std::fflush(file_.get()) != 0) {
+  if (std::fwrite(pixels.data(), 1, pixels.size(), file_.get()) != pixels.size() ||
+      std::fflush(file_.get()) != 0) {
     throw std::runtime_error("frame file " + path_ + ": write failed: " + std::strerror(errno));
   }
   size_ += static_cast<std::int64_t>(pixels.size());

@@ -24,7 +24,8 @@ void FrameSampleMapper::on_trigger_acknowledged(std::int64_t sample_index, std::
 void FrameSampleMapper::drop_skipped_ids(std::uint64_t frame_id) {
   if (next_frame_id_ && frame_id > *next_frame_id_) {
     // The camera skipped ids: those frames' triggers will never be answered.
-    for (std::uint64_t gap = frame_id - *next_frame_id_; gap > 0 && !pending_.empty(); --gap) pending_.pop_front(), ++lost_;
+    for (std::uint64_t gap = frame_id - *next_frame_id_; gap > 0 && !pending_.empty(); --gap)
+      pending_.pop_front(), ++lost_;
   }
   next_frame_id_ = frame_id + 1;
 }
@@ -44,11 +45,16 @@ std::size_t FrameSampleMapper::answered_trigger(std::uint64_t camera_ns, std::ui
   if (first_timestamped_frame) return 0;
   const std::int64_t exposed_host_ns = static_cast<std::int64_t>(camera_ns) + *camera_to_host_ns_;
   std::size_t best = 0;
-  for (std::size_t i = 1; i < pending_.size() && static_cast<std::int64_t>(pending_[i].reached_by_ns) <= exposed_host_ns; ++i) best = i;
+  for (std::size_t i = 1; i < pending_.size() &&
+                          static_cast<std::int64_t>(pending_[i].reached_by_ns) <= exposed_host_ns;
+       ++i)
+    best = i;
   return best;
 }
 
-std::optional<std::int64_t> FrameSampleMapper::on_frame(std::uint64_t frame_id, std::uint64_t camera_ns, std::uint64_t arrival_ns) {
+std::optional<std::int64_t> FrameSampleMapper::on_frame(std::uint64_t frame_id,
+                                                        std::uint64_t camera_ns,
+                                                        std::uint64_t arrival_ns) {
   std::lock_guard lock(mutex_);
   if (camera_ns == 0) drop_skipped_ids(frame_id);
   if (pending_.empty() || pending_.front().host_ns > arrival_ns) {

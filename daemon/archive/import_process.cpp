@@ -41,7 +41,8 @@ std::string current_import_process() {
 bool import_process_alive(const std::string& identity) {
   std::istringstream in(identity);
   std::string boot, pid, ticks;
-  if (!(in >> boot >> pid >> ticks) || pid.find_first_not_of("0123456789") != std::string::npos) return false;
+  if (!(in >> boot >> pid >> ticks) || pid.find_first_not_of("0123456789") != std::string::npos)
+    return false;
   return boot == boot_id() && start_ticks(pid) == ticks;
 }
 

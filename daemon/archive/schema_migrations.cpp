@@ -41,9 +41,12 @@ CREATE TABLE IF NOT EXISTS frames (
 
 std::string_view SchemaMigrations::migration_sql(int to_version) {
   switch (to_version) {
-    case 1: return kVersion1;
-    case 2: return kVersion2;
-    default: return {};
+    case 1:
+      return kVersion1;
+    case 2:
+      return kVersion2;
+    default:
+      return {};
   }
 }
 
@@ -56,7 +59,8 @@ void SchemaMigrations::check_readable(Database& db) {
   const int version = version_of(db);
   if (version > kCurrentVersion) {
     throw ArchiveError("archive " + db.path() + ": schema version " + std::to_string(version) +
-                       " is newer than this rigd's (" + std::to_string(kCurrentVersion) + "): update rigd");
+                       " is newer than this rigd's (" + std::to_string(kCurrentVersion) +
+                       "): update rigd");
   }
 }
 

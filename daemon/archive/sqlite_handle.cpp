@@ -9,7 +9,8 @@ namespace rig::archive {
 namespace {
 
 [[noreturn]] void fail(sqlite3* db, const std::string& what) {
-  throw ArchiveError("archive: " + what + ": " + (db != nullptr ? sqlite3_errmsg(db) : "out of memory"));
+  throw ArchiveError("archive: " + what + ": " +
+                     (db != nullptr ? sqlite3_errmsg(db) : "out of memory"));
 }
 
 }  // namespace
@@ -36,7 +37,8 @@ int Database::retry_while_busy(void* /*unused*/, int tries_so_far) noexcept {
 
 int Database::checkpoint_log() {
   int log_frames = 0, copied_frames = 0;
-  const int rc = sqlite3_wal_checkpoint_v2(db_.get(), nullptr, SQLITE_CHECKPOINT_PASSIVE, &log_frames, &copied_frames);
+  const int rc = sqlite3_wal_checkpoint_v2(db_.get(), nullptr, SQLITE_CHECKPOINT_PASSIVE,
+                                           &log_frames, &copied_frames);
   if (rc != SQLITE_OK && rc != SQLITE_BUSY) fail(db_.get(), "checkpoint of " + path_);
   return std::max(0, log_frames - copied_frames);
 }
@@ -52,7 +54,8 @@ void Database::exec(const std::string& sql) {
 
 Statement::Statement(sqlite3* db, const std::string& sql) : db_(db), sql_(sql) {
   sqlite3_stmt* raw = nullptr;
-  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &raw, nullptr) != SQLITE_OK) fail(db, "prepare '" + sql + "'");
+  if (sqlite3_prepare_v2(db, sql.c_str(), -1, &raw, nullptr) != SQLITE_OK)
+    fail(db, "prepare '" + sql + "'");
   stmt_.reset(raw);
 }
 
@@ -65,11 +68,15 @@ Statement& Statement::bind(int index, double value) {
   return *this;
 }
 Statement& Statement::bind(int index, const std::string& value) {
-  if (sqlite3_bind_text(stmt_.get(), index, value.c_str(), static_cast<int>(value.size()), SQLITE_TRANSIENT) != SQLITE_OK) fail(db_, "bind");
+  if (sqlite3_bind_text(stmt_.get(), index, value.c_str(), static_cast<int>(value.size()),
+                        SQLITE_TRANSIENT) != SQLITE_OK)
+    fail(db_, "bind");
   return *this;
 }
 Statement& Statement::bind(int index, std::span<const double> blob) {
-  if (sqlite3_bind_blob(stmt_.get(), index, blob.data(), static_cast<int>(blob.size_bytes()), SQLITE_TRANSIENT) != SQLITE_OK) fail(db_, "bind");
+  if (sqlite3_bind_blob(stmt_.get(), index, blob.data(), static_cast<int>(blob.size_bytes()),
+                        SQLITE_TRANSIENT) != SQLITE_OK)
+    fail(db_, "bind");
   return *this;
 }
 Statement& Statement::bind_null(int index) {
@@ -98,9 +105,15 @@ void Statement::reset() {
   sqlite3_clear_bindings(stmt_.get());
 }
 
-std::int64_t Statement::integer(int column) const { return sqlite3_column_int64(stmt_.get(), column); }
-double Statement::real(int column) const { return sqlite3_column_double(stmt_.get(), column); }
-bool Statement::is_null(int column) const { return sqlite3_column_type(stmt_.get(), column) == SQLITE_NULL; }
+std::int64_t Statement::integer(int column) const {
+  return sqlite3_column_int64(stmt_.get(), column);
+}
+double Statement::real(int column) const {
+  return sqlite3_column_double(stmt_.get(), column);
+}
+bool Statement::is_null(int column) const {
+  return sqlite3_column_type(stmt_.get(), column) == SQLITE_NULL;
+}
 std::optional<double> Statement::maybe_real(int column) const {
   if (is_null(column)) return std::nullopt;
   return real(column);

@@ -34,8 +34,8 @@ class Statement {
   Statement& bind(int index, std::span<const double> blob);
   Statement& bind_null(int index);
   Statement& bind(int index, const std::optional<double>& value);
-  bool step();   // true while a row is available
-  void run();    // step to completion and reset
+  bool step();  // true while a row is available
+  void run();   // step to completion and reset
   void reset();
   std::int64_t integer(int column) const;
   double real(int column) const;

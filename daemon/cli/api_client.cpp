@@ -11,16 +11,22 @@ namespace rig::cli {
 namespace beast = boost::beast;
 namespace http = beast::http;
 
-ApiClient::ApiClient(std::string url, std::string token) : url_(std::move(url)), token_(std::move(token)) {
+ApiClient::ApiClient(std::string url, std::string token)
+    : url_(std::move(url)), token_(std::move(token)) {
   static const std::regex kUrl(R"(^http://([^/:]+|\[[0-9a-fA-F:]+\]):(\d+)/?$)");
   std::smatch m;
-  if (!std::regex_match(url_, m, kUrl)) throw ApiClientError("--api " + url_ + ": expected http://HOST:PORT");
+  if (!std::regex_match(url_, m, kUrl))
+    throw ApiClientError("--api " + url_ + ": expected http://HOST:PORT");
   host_ = m[1].str();
   port_ = m[2].str();
 }
 
-HttpReply ApiClient::get(const std::string& path) const { return request(false, path, ""); }
-HttpReply ApiClient::post(const std::string& path, const std::string& body) const { return request(true, path, body); }
+HttpReply ApiClient::get(const std::string& path) const {
+  return request(false, path, "");
+}
+HttpReply ApiClient::post(const std::string& path, const std::string& body) const {
+  return request(true, path, body);
+}
 
 HttpReply ApiClient::request(bool post, const std::string& path, const std::string& body) const {
   try {
@@ -41,13 +47,14 @@ HttpReply ApiClient::request(bool post, const std::string& path, const std::stri
     http::write(stream, req);
     beast::flat_buffer buffer;
     http::response_parser<http::string_body> parser;
-    parser.body_limit(512U * 1024U * 1024U);
+    parser.body_limit(std::uint64_t{512} * 1024 * 1024);
     http::read(stream, buffer, parser);
     beast::error_code ignored;
     stream.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_both, ignored);
     return {static_cast<int>(parser.get().result_int()), parser.get().body()};
   } catch (const boost::system::system_error& e) {
-    throw ApiClientError("cannot reach rigd at " + url_ + ": " + e.code().message() + " (is rigd running? see --api)");
+    throw ApiClientError("cannot reach rigd at " + url_ + ": " + e.code().message() +
+                         " (is rigd running? see --api)");
   }
 }
 

@@ -26,7 +26,8 @@ int export_run(const CliContext& c, const ExportOptions& o) {
     model::write_run_csv(run, std::cout);
   } else {
     model::write_run_csv(run, o.output);
-    std::cerr << "run " << o.run_id << ": " << run.size() << " samples written to " << o.output << "\n";
+    std::cerr << "run " << o.run_id << ": " << run.size() << " samples written to " << o.output
+              << "\n";
   }
   return 0;
 }
@@ -46,7 +47,8 @@ int import_runs(const CliContext& c, const std::vector<std::string>& files) {
     for (const auto& warning : run.warnings) std::cerr << "warning: " << warning << "\n";
     const std::int64_t id = archive.import_run(run);
     imported.push_back({{"file", file}, {"run_id", id}, {"samples", run.size()}});
-    if (!c.json()) std::cout << file << ": imported as run " << id << " (" << run.size() << " samples)\n";
+    if (!c.json())
+      std::cout << file << ": imported as run " << id << " (" << run.size() << " samples)\n";
   }
   if (c.json()) std::cout << imported.dump() << "\n";
   return 0;
@@ -57,7 +59,10 @@ int import_runs(const CliContext& c, const std::vector<std::string>& files) {
 void add_archive_commands(CLI::App& app, CliContext& c, int& exit_code) {
   auto e = std::make_shared<ExportOptions>();
   CLI::App* exp = app.add_subcommand("export", "write an archived run as run-CSV");
-  exp->add_option("run", e->source, "run id, or pg:CONNINFO [key=value...] (the lab archive; several runs: -o FOLDER)")->required();
+  exp->add_option(
+         "run", e->source,
+         "run id, or pg:CONNINFO [key=value...] (the lab archive; several runs: -o FOLDER)")
+      ->required();
   exp->add_flag("--csv", e->csv, "run-CSV format (the only format)");
   exp->add_option("-o,--output", e->output, "file to write (default: standard output)");
   exp->callback([&c, &exit_code, e] {
@@ -66,12 +71,14 @@ void add_archive_commands(CLI::App& app, CliContext& c, int& exit_code) {
       return;
     }
     if (e->source.size() != 1) throw CLI::ValidationError("run", "give one run id");
-    if (!CLI::detail::lexical_cast(e->source[0], e->run_id)) throw CLI::ValidationError("run", e->source[0] + ": not a run id");
+    if (!CLI::detail::lexical_cast(e->source[0], e->run_id))
+      throw CLI::ValidationError("run", e->source[0] + ": not a run id");
     exit_code = export_run(c, *e);
   });
   add_lab_filter_options(exp);
   auto files = std::make_shared<std::vector<std::string>>();
-  CLI::App* imp = app.add_subcommand("import", "read run-CSV files (ours or other DAQs') into the archive");
+  CLI::App* imp =
+      app.add_subcommand("import", "read run-CSV files (ours or other DAQs') into the archive");
   imp->add_option("files", *files, "run-CSV files")->required()->check(CLI::ExistingFile);
   imp->callback([&c, &exit_code, files] { exit_code = import_runs(c, *files); });
 }

@@ -17,6 +17,7 @@ namespace rig::cli {
 ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::string& log_path)
     : log_path_(log_path), name_(argv.at(0)) {
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   std::ofstream(log_path, std::ios::trunc).flush();  // never read a previous run's log
@@ -38,7 +39,9 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
   }
 }
 
-ChildProcess::~ChildProcess() { stop(); }
+ChildProcess::~ChildProcess() {
+  stop();
+}
 
 bool ChildProcess::running() {
   if (pid_ <= 0) return false;
@@ -82,7 +85,8 @@ std::string ChildProcess::wait_for_line(const std::string& text, int timeout_ms)
     if (!running()) throw std::runtime_error(name_ + " exited during start-up:\n" + log_tail());
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }
-  throw std::runtime_error(name_ + " did not start within " + std::to_string(timeout_ms) + " ms:\n" + log_tail());
+  throw std::runtime_error(name_ + " did not start within " + std::to_string(timeout_ms) +
+                           " ms:\n" + log_tail());
 }
 
 }  // namespace rig::cli

@@ -23,11 +23,13 @@ void print_table(const std::vector<std::string>& header, const Rows& rows) {
   std::vector<std::size_t> width(header.size());
   for (std::size_t c = 0; c < header.size(); ++c) width[c] = header[c].size();
   for (const auto& row : rows) {
-    for (std::size_t c = 0; c < row.size() && c < width.size(); ++c) width[c] = std::max(width[c], row[c].size());
+    for (std::size_t c = 0; c < row.size() && c < width.size(); ++c)
+      width[c] = std::max(width[c], row[c].size());
   }
   auto line = [&](const std::vector<std::string>& cells) {
     for (std::size_t c = 0; c < cells.size(); ++c) {
-      std::cout << cells[c] << std::string(width[c] - cells[c].size() + (c + 1 < cells.size() ? 2 : 0), ' ');
+      std::cout << cells[c]
+                << std::string(width[c] - cells[c].size() + (c + 1 < cells.size() ? 2 : 0), ' ');
     }
     std::cout << "\n";
   };
@@ -38,7 +40,8 @@ void print_table(const std::vector<std::string>& header, const Rows& rows) {
 void print_pairs(const std::vector<std::pair<std::string, std::string>>& pairs) {
   std::size_t width = 0;
   for (const auto& [k, v] : pairs) width = std::max(width, k.size());
-  for (const auto& [k, v] : pairs) std::cout << k << std::string(width - k.size() + 2, ' ') << v << "\n";
+  for (const auto& [k, v] : pairs)
+    std::cout << k << std::string(width - k.size() + 2, ' ') << v << "\n";
 }
 
 std::string fixed(double value, int decimals) {
@@ -49,7 +52,9 @@ std::string fixed(double value, int decimals) {
 
 nlohmann::json parse_reply(const HttpReply& reply, const std::string& what) {
   nlohmann::json j = nlohmann::json::parse(reply.body, nullptr, false);
-  if (j.is_discarded()) throw ApiClientError(what + ": rigd answered HTTP " + std::to_string(reply.status) + " without JSON");
+  if (j.is_discarded())
+    throw ApiClientError(what + ": rigd answered HTTP " + std::to_string(reply.status) +
+                         " without JSON");
   return j;
 }
 

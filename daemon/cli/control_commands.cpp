@@ -25,22 +25,34 @@ int show_status(const CliContext& c) {
   }
   const auto& l = s["loop"];
   const auto& i = s["interlocks"];
-  print_pairs({{"state", s["state"].get<std::string>() + (s["phase"] != "none" ? " (" + s["phase"].get<std::string>() + ")" : "")},
-               {"fault", s["fault"]},
-               {"homed / tared", std::string(s["homed"] ? "yes" : "no") + " / " + (s["tared"] ? "yes" : "no")},
-               {"position", fixed(s["position_mm"], 3) + " mm"},
-               {"force", fixed(s["force_N"], 4) + " N"},
-               {"IOP", fixed(s["iop_mmHg"], 2) + " mmHg (target " + fixed(s["iop_target_mmHg"], 1) + (s["iop_settled"] ? ", settled)" : ")")},
-               {"velocity", fixed(s["velocity_mm_s"], 3) + " mm/s"},
-               {"motor", std::string(s["motor_enabled"] ? "enabled, " : "off, ") + fixed(s["motor_volts"], 2) + " V"},
-               {"interlocks", std::string("home ") + (i["home_limit"] ? "ON" : "off") + ", end " + (i["end_limit"] ? "ON" : "off") +
-                                  ", e-stop " + (i["estop_input"] ? "PRESSED" : "off") + ", DAQ link " + (i["link_ok"] ? "ok" : "DOWN")},
-               {"run", s["run_id"].get<std::int64_t>() != 0 ? std::to_string(s["run_id"].get<std::int64_t>()) : "-"},
-               {"loop", fixed(l["rate_hz"], 0) + " Hz" + (l["realtime"] ? " SCHED_FIFO" : " (not real-time)") + ", jitter p50/p99/max " +
-                            fixed(l["jitter_p50_us"], 0) + "/" + fixed(l["jitter_p99_us"], 0) + "/" + fixed(l["jitter_max_us"], 0) +
-                            " us, overruns " + std::to_string(l["overruns"].get<std::int64_t>())},
-               {"model", s["model_file"]}});
-  if (s.contains("lab_archive")) print_pairs({{"lab archive", describe_lab_archive_status(s["lab_archive"])}});
+  print_pairs(
+      {{"state", s["state"].get<std::string>() +
+                     (s["phase"] != "none" ? " (" + s["phase"].get<std::string>() + ")" : "")},
+       {"fault", s["fault"]},
+       {"homed / tared",
+        std::string(s["homed"] ? "yes" : "no") + " / " + (s["tared"] ? "yes" : "no")},
+       {"position", fixed(s["position_mm"], 3) + " mm"},
+       {"force", fixed(s["force_N"], 4) + " N"},
+       {"IOP", fixed(s["iop_mmHg"], 2) + " mmHg (target " + fixed(s["iop_target_mmHg"], 1) +
+                   (s["iop_settled"] ? ", settled)" : ")")},
+       {"velocity", fixed(s["velocity_mm_s"], 3) + " mm/s"},
+       {"motor", std::string(s["motor_enabled"] ? "enabled, " : "off, ") +
+                     fixed(s["motor_volts"], 2) + " V"},
+       {"interlocks", std::string("home ") + (i["home_limit"] ? "ON" : "off") + ", end " +
+                          (i["end_limit"] ? "ON" : "off") + ", e-stop " +
+                          (i["estop_input"] ? "PRESSED" : "off") + ", DAQ link " +
+                          (i["link_ok"] ? "ok" : "DOWN")},
+       {"run", s["run_id"].get<std::int64_t>() != 0
+                   ? std::to_string(s["run_id"].get<std::int64_t>())
+                   : "-"},
+       {"loop", fixed(l["rate_hz"], 0) + " Hz" +
+                    (l["realtime"] ? " SCHED_FIFO" : " (not real-time)") + ", jitter p50/p99/max " +
+                    fixed(l["jitter_p50_us"], 0) + "/" + fixed(l["jitter_p99_us"], 0) + "/" +
+                    fixed(l["jitter_max_us"], 0) + " us, overruns " +
+                    std::to_string(l["overruns"].get<std::int64_t>())},
+       {"model", s["model_file"]}});
+  if (s.contains("lab_archive"))
+    print_pairs({{"lab archive", describe_lab_archive_status(s["lab_archive"])}});
   return 0;
 }
 
@@ -52,7 +64,8 @@ int send_command(const CliContext& c, const std::string& name) {
   } else if (j.contains("error")) {
     std::cerr << name << ": " << j["error"].get<std::string>() << "\n";
   } else {
-    std::cout << name << ": " << j["result"].get<std::string>() << " (state " << j["state"].get<std::string>() << ")\n";
+    std::cout << name << ": " << j["result"].get<std::string>() << " (state "
+              << j["state"].get<std::string>() << ")\n";
   }
   return reply.status == 200 ? 0 : 1;
 }
@@ -90,13 +103,17 @@ int home_rig(const CliContext& c, bool wait) {
   const HttpReply reply = c.client().post("/api/home");
   const nlohmann::json j = parse_reply(reply, "home");
   if (reply.status != 200) {
-    std::cerr << "home: " << (j.contains("error") ? j["error"].get<std::string>() : j.value("result", "refused")) << "\n";
+    std::cerr << "home: "
+              << (j.contains("error") ? j["error"].get<std::string>()
+                                      : j.value("result", "refused"))
+              << "\n";
     return 1;
   }
   if (!c.json()) std::cerr << "home: homing (waits until parked; --no-wait returns at once)\n";
   nlohmann::json s;
   if (!wait_while_homing(c, kHomingTimeout_s, s)) {
-    std::cerr << "home: still homing after " << kHomingTimeout_s << " s (position " << fixed(s["position_mm"], 2) << " mm)\n";
+    std::cerr << "home: still homing after " << kHomingTimeout_s << " s (position "
+              << fixed(s["position_mm"], 2) << " mm)\n";
     return 1;
   }
   const bool parked = s["state"] == "Ready" && s["homed"] == true;
@@ -105,7 +122,8 @@ int home_rig(const CliContext& c, bool wait) {
   } else if (parked) {
     std::cout << "home: parked at " << fixed(s["position_mm"], 2) << " mm (state Ready)\n";
   } else {
-    std::cerr << "home: ended in " << s["state"].get<std::string>() << (s["fault"] != "none" ? ": " + s["fault"].get<std::string>() : "") << "\n";
+    std::cerr << "home: ended in " << s["state"].get<std::string>()
+              << (s["fault"] != "none" ? ": " + s["fault"].get<std::string>() : "") << "\n";
   }
   return parked ? 0 : 1;
 }
@@ -119,11 +137,14 @@ int list_runs(const CliContext& c) {
   }
   Rows rows;
   for (const auto& r : j["runs"]) {
-    rows.push_back({std::to_string(r["run_id"].get<std::int64_t>()), r["eye_id"], r.value("started_at", ""),
-                    r.contains("iop_mmHg") ? fixed(r["iop_mmHg"], 1) : "-", r.contains("velocity_mm_s") ? fixed(r["velocity_mm_s"], 2) : "-",
-                    std::to_string(r["samples"].get<std::int64_t>()), r["outcome"], r.value("reason", "")});
+    rows.push_back(
+        {std::to_string(r["run_id"].get<std::int64_t>()), r["eye_id"], r.value("started_at", ""),
+         r.contains("iop_mmHg") ? fixed(r["iop_mmHg"], 1) : "-",
+         r.contains("velocity_mm_s") ? fixed(r["velocity_mm_s"], 2) : "-",
+         std::to_string(r["samples"].get<std::int64_t>()), r["outcome"], r.value("reason", "")});
   }
-  print_table({"run", "eye", "started (UTC)", "IOP mmHg", "v mm/s", "samples", "outcome", "reason"}, rows);
+  print_table({"run", "eye", "started (UTC)", "IOP mmHg", "v mm/s", "samples", "outcome", "reason"},
+              rows);
   return 0;
 }
 
@@ -141,7 +162,9 @@ struct RunOptions {
   bool no_wait = false;
 };
 
-void on_interrupt(int /*signal*/) { g_interrupted.store(true); }
+void on_interrupt(int /*signal*/) {
+  g_interrupted.store(true);
+}
 
 // The run's archive entry once the recorder has closed it: the loop's state says the run
 // ended a moment before the recorder's last commit writes its outcome (longer on a busy
@@ -149,9 +172,12 @@ void on_interrupt(int /*signal*/) { g_interrupted.store(true); }
 nlohmann::json archived_run_once_closed(const CliContext& c, std::int64_t run_id) {
   const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(10);
   while (true) {
-    nlohmann::json detail = parse_reply(c.client().get("/api/runs/" + std::to_string(run_id)), "run detail");
+    nlohmann::json detail =
+        parse_reply(c.client().get("/api/runs/" + std::to_string(run_id)), "run detail");
     const std::string outcome = detail["run"].value("outcome", "");
-    if ((outcome != "recording" && outcome != "armed") || std::chrono::steady_clock::now() > give_up) return detail;
+    if ((outcome != "recording" && outcome != "armed") ||
+        std::chrono::steady_clock::now() > give_up)
+      return detail;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
 }
@@ -165,15 +191,17 @@ nlohmann::json wait_for_run_end(const CliContext& c, bool print_progress) {
       std::cerr << "\ninterrupted: stopping the rig\n";
       client.post("/api/stop");
     }
-    const nlohmann::json s = parse_reply(client.get("/api/status"), "status");
+    nlohmann::json s = parse_reply(client.get("/api/status"), "status");
     const std::string state = s["state"];
     if (print_progress && !c.json()) {
-      const std::string line = state + " " + s["phase"].get<std::string>() + "  x " + fixed(s["position_mm"], 2) +
-                               " mm  F " + fixed(s["force_N"], 3) + " N  IOP " + fixed(s["iop_mmHg"], 1) + " mmHg";
+      const std::string line = state + " " + s["phase"].get<std::string>() + "  x " +
+                               fixed(s["position_mm"], 2) + " mm  F " + fixed(s["force_N"], 3) +
+                               " N  IOP " + fixed(s["iop_mmHg"], 1) + " mmHg";
       if (line != last_line) std::cerr << "\r" << line << "   " << std::flush;
       last_line = line;
     }
-    if (state == "Done" || state == "Fault" || state == "EStop" || state == "Ready" || state == "Idle") {
+    if (state == "Done" || state == "Fault" || state == "EStop" || state == "Ready" ||
+        state == "Idle") {
       if (print_progress && !c.json()) std::cerr << "\n";
       std::signal(SIGINT, SIG_DFL);
       return s;
@@ -197,30 +225,40 @@ int run_cut(const CliContext& c, RunOptions& o, bool start) {
   // A run asked for while the rig is still homing waits for the carriage to park, then starts.
   nlohmann::json before = parse_reply(c.client().get("/api/status"), "status");
   if (before["state"] == "Homing") {
-    if (!c.json()) std::cerr << "run: waiting for homing to finish (carriage at " << fixed(before["position_mm"], 2) << " mm)\n";
+    if (!c.json())
+      std::cerr << "run: waiting for homing to finish (carriage at "
+                << fixed(before["position_mm"], 2) << " mm)\n";
     if (!wait_while_homing(c, kHomingTimeout_s, before)) {
       std::cerr << "run: still homing after " << kHomingTimeout_s << " s; not started\n";
       return 1;
     }
   }
-  const HttpReply reply = c.client().post(start ? "/api/run" : "/api/arm", nlohmann::json(r).dump());
+  const HttpReply reply =
+      c.client().post(start ? "/api/run" : "/api/arm", nlohmann::json(r).dump());
   const nlohmann::json j = parse_reply(reply, "run");
   if (reply.status != 200) {
-    std::cerr << "run: " << (j.contains("error") ? j["error"].get<std::string>() : j.value("result", "refused")) << "\n";
+    std::cerr << "run: "
+              << (j.contains("error") ? j["error"].get<std::string>()
+                                      : j.value("result", "refused"))
+              << "\n";
     if (c.json()) std::cout << j.dump() << "\n";
     return 1;
   }
   const std::int64_t run_id = j["run_id"];
-  if (!c.json()) std::cout << "run " << run_id << " armed (eye " << r.eye_id << ", IOP " << r.iop_mmHg << " mmHg, " << r.velocity_mm_s << " mm/s, " << r.depth_mm << " mm)\n";
+  if (!c.json())
+    std::cout << "run " << run_id << " armed (eye " << r.eye_id << ", IOP " << r.iop_mmHg
+              << " mmHg, " << r.velocity_mm_s << " mm/s, " << r.depth_mm << " mm)\n";
   if (o.no_wait || !start) return 0;
   const nlohmann::json end = wait_for_run_end(c, true);
-  if (end["state"] == "Fault" && !c.json()) std::cerr << "run: the rig faulted: " << end["fault"].get<std::string>() << "\n";
+  if (end["state"] == "Fault" && !c.json())
+    std::cerr << "run: the rig faulted: " << end["fault"].get<std::string>() << "\n";
   const nlohmann::json detail = archived_run_once_closed(c, run_id);
   if (c.json()) {
     std::cout << detail["run"].dump() << "\n";
   } else {
     const auto& run = detail["run"];
-    std::cout << "run " << run_id << ": " << run["outcome"].get<std::string>() << (run.contains("reason") ? " (" + run["reason"].get<std::string>() + ")" : "")
+    std::cout << "run " << run_id << ": " << run["outcome"].get<std::string>()
+              << (run.contains("reason") ? " (" + run["reason"].get<std::string>() + ")" : "")
               << ", " << run["samples"] << " samples archived\n";
   }
   return detail["run"]["outcome"] == "completed" ? 0 : 1;
@@ -229,30 +267,45 @@ int run_cut(const CliContext& c, RunOptions& o, bool start) {
 }  // namespace
 
 void add_control_commands(CLI::App& app, CliContext& c, int& exit_code) {
-  app.add_subcommand("status", "state, interlocks, sensors and loop timing")->callback([&] { exit_code = show_status(c); });
+  app.add_subcommand("status", "state, interlocks, sensors and loop timing")->callback([&] {
+    exit_code = show_status(c);
+  });
   auto home_no_wait = std::make_shared<bool>(false);
-  CLI::App* home = app.add_subcommand("home", "find the home switch and park the carriage; returns once parked");
+  CLI::App* home =
+      app.add_subcommand("home", "find the home switch and park the carriage; returns once parked");
   home->add_flag("--no-wait", *home_no_wait, "return as soon as homing has started");
   home->callback([&c, &exit_code, home_no_wait] { exit_code = home_rig(c, !*home_no_wait); });
-  app.add_subcommand("tare", "zero the load cell (no load on the keratome); returns once tared")->callback([&c, &exit_code] {
-    exit_code = send_command(c, "tare");
-    if (exit_code == 0 && !wait_until_tared(c)) exit_code = 1;
-  });
+  app.add_subcommand("tare", "zero the load cell (no load on the keratome); returns once tared")
+      ->callback([&c, &exit_code] {
+        exit_code = send_command(c, "tare");
+        if (exit_code == 0 && !wait_until_tared(c)) exit_code = 1;
+      });
   for (const auto& [name, help] : std::vector<std::pair<std::string, std::string>>{
-           {"start", "start an armed run"}, {"stop", "stop motion now; a running cut ends as 'stopped'"},
-           {"estop", "software e-stop (latched until reset)"}, {"reset", "leave Fault or EStop (home again afterwards)"}}) {
-    app.add_subcommand(name, help)->callback([&c, &exit_code, n = name] { exit_code = send_command(c, n); });
+           {"start", "start an armed run"},
+           {"stop", "stop motion now; a running cut ends as 'stopped'"},
+           {"estop", "software e-stop (latched until reset)"},
+           {"reset", "leave Fault or EStop (home again afterwards)"}}) {
+    app.add_subcommand(name, help)->callback([&c, &exit_code, n = name] {
+      exit_code = send_command(c, n);
+    });
   }
-  CLI::App* runs = app.add_subcommand("runs", "list the archived runs (pg:CONNINFO: every rig's, from the lab archive)");
+  CLI::App* runs = app.add_subcommand(
+      "runs", "list the archived runs (pg:CONNINFO: every rig's, from the lab archive)");
   auto lab = add_lab_runs_options(runs);
-  runs->callback([&c, &exit_code, lab] { exit_code = lab->given() ? list_lab_runs(c, *lab) : list_runs(c); });
+  runs->callback(
+      [&c, &exit_code, lab] { exit_code = lab->given() ? list_lab_runs(c, *lab) : list_runs(c); });
   auto options = std::make_shared<RunOptions>();
   for (const char* name : {"run", "arm"}) {
     const bool start = std::string(name) == "run";
-    CLI::App* cmd = app.add_subcommand(name, start ? "set IOP, cut at constant velocity, retract; waits for the end" : "set and settle the IOP, then wait for `rig start`");
+    CLI::App* cmd = app.add_subcommand(
+        name, start ? "set IOP, cut at constant velocity, retract; waits for the end"
+                    : "set and settle the IOP, then wait for `rig start`");
     cmd->add_option("--iop", options->request.iop_mmHg, "IOP to hold [mmHg]")->required();
-    cmd->add_option("--velocity", options->request.velocity_mm_s, "cutting velocity [mm/s]")->required();
-    cmd->add_option("--depth", options->request.depth_mm, "insertion depth from the corneal surface [mm]")->required();
+    cmd->add_option("--velocity", options->request.velocity_mm_s, "cutting velocity [mm/s]")
+        ->required();
+    cmd->add_option("--depth", options->request.depth_mm,
+                    "insertion depth from the corneal surface [mm]")
+        ->required();
     cmd->add_option("--eye", options->request.eye_id, "eye (specimen) id")->required();
     cmd->add_option("--hold", options->hold_s, "hold at depth before retracting [s]");
     cmd->add_option("--post-mortem", options->post_mortem_h, "hours since death");

@@ -23,7 +23,9 @@ bool is_filter(const std::string& arg) {
 
 }  // namespace
 
-bool is_lab_source(const std::string& arg) { return arg.rfind("pg:", 0) == 0; }
+bool is_lab_source(const std::string& arg) {
+  return arg.rfind("pg:", 0) == 0;
+}
 
 LabSource parse_lab_source(const std::vector<std::string>& args, std::size_t& i) {
   LabSource source;
@@ -37,7 +39,8 @@ void add_lab_filter_options(CLI::App* command) {
   auto& f = option_filters();
   command->add_option("--rig", f.rig, "pg: sources: runs of this rig only");
   command->add_option("--eye-lot", f.eye_lot, "pg: sources: runs of this eye lot only");
-  command->add_option("--since", f.since, "pg: sources: runs created at or after this date (ISO 8601)");
+  command->add_option("--since", f.since,
+                      "pg: sources: runs created at or after this date (ISO 8601)");
 }
 
 std::vector<model::RunData> load_lab_runs(const LabSource& source) {
@@ -47,7 +50,9 @@ std::vector<model::RunData> load_lab_runs(const LabSource& source) {
     if (row.samples == 0) continue;  // armed and never cut, or not shipped yet
     runs.push_back(reader.load_run(row.uuid));
   }
-  if (runs.empty()) throw std::runtime_error("pg:" + std::string(source.conninfo.empty() ? "" : "...") + ": no run with samples matches the filters");
+  if (runs.empty())
+    throw std::runtime_error("pg:" + std::string(source.conninfo.empty() ? "" : "...") +
+                             ": no run with samples matches the filters");
   return runs;
 }
 

@@ -1,7 +1,9 @@
 // rig: the command line of the keratome rig (control, archive, model lab, demo, haptics).
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <iostream>
 
 #include "archive_commands.hpp"
@@ -13,8 +15,10 @@
 #include "model_commands.hpp"
 #include "sim_commands.hpp"
 
-int main(int argc, char** argv) {
-  CLI::App app{"rig: run incision tests on the keratome rig, analyse them with the model lab, feel them on the Phantom"};
+static int run_rig(int argc, char** argv) {
+  CLI::App app{
+      "rig: run incision tests on the keratome rig, analyse them with the model lab, feel them on "
+      "the Phantom"};
   app.require_subcommand(1);
   // Global options may come before or after the subcommand (`rig demo --once --format json`):
   // options a subcommand does not know fall through to this parent.
@@ -25,8 +29,10 @@ int main(int argc, char** argv) {
   if (const char* token = std::getenv("RIG_TOKEN_FILE")) context.token_file = token;
   app.add_option("--api", context.api_url, "rigd API (env RIG_API)");
   app.add_option("--token-file", context.token_file, "API token file (env RIG_TOKEN_FILE)");
-  app.add_option("--archive", context.archive_path, "archive file for export/import/model (env RIG_ARCHIVE)");
-  app.add_option("--format", context.format, "output format")->check(CLI::IsMember({"table", "json"}));
+  app.add_option("--archive", context.archive_path,
+                 "archive file for export/import/model (env RIG_ARCHIVE)");
+  app.add_option("--format", context.format, "output format")
+      ->check(CLI::IsMember({"table", "json"}));
   int exit_code = 0;
   rig::cli::add_control_commands(app, context, exit_code);
   rig::cli::add_archive_commands(app, context, exit_code);
@@ -44,4 +50,17 @@ int main(int argc, char** argv) {
     return 1;
   }
   return exit_code;
+}
+
+// An exception no command caught (a bug, or a resource gone at setup) ends the program with its
+// message and status 1, not with std::terminate's abort.
+int main(int argc, char** argv) {
+  try {
+    return run_rig(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "rig: error: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "rig: error: an unknown exception\n");
+  }
+  return 1;
 }

@@ -20,7 +20,8 @@ std::string executable_dir() {
   return std::filesystem::read_symlink("/proc/self/exe", ec).parent_path().string();
 }
 
-std::vector<model::RunData> load_runs(const std::vector<std::string>& paths, const std::string& archive_path) {
+std::vector<model::RunData> load_runs(const std::vector<std::string>& paths,
+                                      const std::string& archive_path) {
   std::vector<model::RunData> runs;
   std::unique_ptr<archive::Archive> archive;
   for (std::size_t i = 0; i < paths.size(); ++i) {
@@ -62,9 +63,11 @@ std::string default_model_file(const std::string& given) {
   places.emplace_back("/usr/share/rigd/models");
   places.emplace_back(RIG_SOURCE_MODEL_DIR);
   for (const auto& dir : places) {
-    if (std::filesystem::exists(dir / "paper-interpreted.toml")) return (dir / "paper-interpreted.toml").lexically_normal().string();
+    if (std::filesystem::exists(dir / "paper-interpreted.toml"))
+      return (dir / "paper-interpreted.toml").lexically_normal().string();
   }
-  throw std::runtime_error("no model file given and paper-interpreted.toml not found; use --model FILE");
+  throw std::runtime_error(
+      "no model file given and paper-interpreted.toml not found; use --model FILE");
 }
 
 }  // namespace rig::cli

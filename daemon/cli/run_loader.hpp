@@ -9,7 +9,8 @@
 namespace rig::cli {
 
 // Throws naming the path (or run id) that could not be read; prints warnings to stderr.
-std::vector<model::RunData> load_runs(const std::vector<std::string>& paths, const std::string& archive_path);
+std::vector<model::RunData> load_runs(const std::vector<std::string>& paths,
+                                      const std::string& archive_path);
 // The model file to use: the given one, or paper-interpreted.toml where rigd installs it.
 std::string default_model_file(const std::string& given);
 std::string executable_dir();

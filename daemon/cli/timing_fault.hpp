@@ -11,7 +11,8 @@ namespace rig::cli {
 inline bool is_timing_fault(const std::string& fault) {
   // Writes *lost* (no valid answer in time) are the link's timing; writes *refused* by the DAQ
   // (a Modbus exception) are not, and are never retried.
-  const bool writes_lost = fault.rfind("DAQ write failed", 0) == 0 && fault.find("writes in a row lost") != std::string::npos;
+  const bool writes_lost = fault.rfind("DAQ write failed", 0) == 0 &&
+                           fault.find("writes in a row lost") != std::string::npos;
   return fault.rfind("DAQ link lost", 0) == 0 || fault.rfind("DAQ watchdog tripped", 0) == 0 ||
          fault.rfind("loop overrun storm", 0) == 0 || writes_lost;
 }

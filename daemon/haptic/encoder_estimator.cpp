@@ -8,7 +8,9 @@ namespace rig::haptic {
 EncoderEstimator::EncoderEstimator(double resolution_mm, double lead_s) noexcept
     : resolution_mm_(resolution_mm), lead_s_(lead_s) {}
 
-void EncoderEstimator::reset() noexcept { started_ = false; }
+void EncoderEstimator::reset() noexcept {
+  started_ = false;
+}
 
 double EncoderEstimator::update(double raw_mm, double t_s) noexcept {
   if (!started_) {
@@ -30,7 +32,8 @@ double EncoderEstimator::update(double raw_mm, double t_s) noexcept {
     crossing_mm_ = std::abs(step) > 1.5 * resolution_mm_ ? raw_mm : raw_mm - direction * half;
     crossing_t_s_ = t_s;
     const double dt = crossing_t_s_ - previous_crossing_t_s_;
-    velocity_mm_s_ = (direction == direction_ && dt > 0.0) ? (crossing_mm_ - previous_crossing_mm_) / dt : 0.0;
+    velocity_mm_s_ =
+        (direction == direction_ && dt > 0.0) ? (crossing_mm_ - previous_crossing_mm_) / dt : 0.0;
     direction_ = direction;
     raw_mm_ = raw_mm;
     cell_low_mm_ = raw_mm - half;
@@ -42,7 +45,8 @@ double EncoderEstimator::update(double raw_mm, double t_s) noexcept {
     const double bound = resolution_mm_ / std::max(since, 1e-6);
     velocity_mm_s_ = std::copysign(std::min(std::abs(velocity_mm_s_), bound), velocity_mm_s_);
   }
-  estimate_mm_ = std::clamp(crossing_mm_ + velocity_mm_s_ * (t_s - crossing_t_s_), cell_low_mm_, cell_high_mm_);
+  estimate_mm_ = std::clamp(crossing_mm_ + velocity_mm_s_ * (t_s - crossing_t_s_), cell_low_mm_,
+                            cell_high_mm_);
   return estimate_mm_ + velocity_mm_s_ * lead_s_;
 }
 

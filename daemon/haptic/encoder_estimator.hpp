@@ -23,11 +23,11 @@ class EncoderEstimator {
  private:
   double resolution_mm_, lead_s_;
   bool started_ = false;
-  double raw_mm_ = 0.0;           // current count [mm]
-  double crossing_mm_ = 0.0;      // where the last change crossed [mm]
-  double crossing_t_s_ = 0.0;     // when [s]
+  double raw_mm_ = 0.0;        // current count [mm]
+  double crossing_mm_ = 0.0;   // where the last change crossed [mm]
+  double crossing_t_s_ = 0.0;  // when [s]
   double previous_crossing_mm_ = 0.0, previous_crossing_t_s_ = 0.0;
-  int direction_ = 0;             // of the last change: +1, -1
+  int direction_ = 0;                              // of the last change: +1, -1
   double cell_low_mm_ = 0.0, cell_high_mm_ = 0.0;  // where the true position can be
   double velocity_mm_s_ = 0.0;
   double estimate_mm_ = 0.0;

@@ -5,7 +5,8 @@
 
 namespace rig::haptic {
 
-ErrorFigures felt_error(const std::vector<drivers::FeltSample>& felt, const ForceSource& reference) {
+ErrorFigures felt_error(const std::vector<drivers::FeltSample>& felt,
+                        const ForceSource& reference) {
   ErrorFigures figures;
   double sum_sq = 0.0;
   double front = -1e9;
@@ -20,7 +21,8 @@ ErrorFigures felt_error(const std::vector<drivers::FeltSample>& felt, const Forc
     if (error > figures.max_N) figures.max_N = error, figures.max_at_depth_mm = s.depth_mm;
     ++figures.samples;
   }
-  if (figures.samples > 0) figures.rmse_N = std::sqrt(sum_sq / static_cast<double>(figures.samples));
+  if (figures.samples > 0)
+    figures.rmse_N = std::sqrt(sum_sq / static_cast<double>(figures.samples));
   return figures;
 }
 

@@ -19,17 +19,17 @@ class ServoLoop;
 
 struct SessionReport {
   double wall_s = 0.0;
-  double rate_hz = 0.0;            // ticks per wall second
+  double rate_hz = 0.0;  // ticks per wall second
   std::uint64_t ticks = 0;
-  std::uint64_t overruns = 0;      // ticks longer than the period
-  std::uint64_t late_ticks = 0;    // ticks started > 1.5 periods after the previous one
+  std::uint64_t overruns = 0;    // ticks longer than the period
+  std::uint64_t late_ticks = 0;  // ticks started > 1.5 periods after the previous one
   std::uint64_t nonfinite_forces = 0;
   std::uint64_t clamped_ticks = 0;
   std::uint64_t slew_limited_ticks = 0;
   double tick_p50_us = 0.0, tick_p99_us = 0.0, tick_max_us = 0.0;  // servo tick cost
   bool watchdog_tripped = false;
   double longest_stall_ms = 0.0;
-  std::string fault;               // empty: none
+  std::string fault;  // empty: none
   double force_limit_N = 0.0;
   int mesh_vertices = 0, mesh_springs = 0;
 };
@@ -45,7 +45,8 @@ class HapticSession {
   ~HapticSession();
   // Runs until the device stops (a simulated hand's trajectory ends), *cancel turns true or
   // max_s [s] pass; hands each new mesh snapshot to on_mesh (on this thread, ~50 Hz).
-  SessionReport run(const std::function<void(const MeshSnapshot&)>& on_mesh, const std::atomic<bool>* cancel, double max_s);
+  SessionReport run(const std::function<void(const MeshSnapshot&)>& on_mesh,
+                    const std::atomic<bool>* cancel, double max_s);
   ServoLoop& servo() { return *servo_; }
 
  private:

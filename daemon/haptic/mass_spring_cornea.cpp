@@ -8,9 +8,10 @@ namespace rig::haptic {
 
 MassSpringCornea::MassSpringCornea(const MeshSettings& settings) : s_(settings) {
   if (s_.n < 3) throw std::invalid_argument("mesh: n must be at least 3");
-  if (!(s_.prestrain >= 0.0 && s_.prestrain < 0.5)) throw std::invalid_argument("mesh: prestrain must be in [0, 0.5)");
+  if (!(s_.prestrain >= 0.0 && s_.prestrain < 0.5))
+    throw std::invalid_argument("mesh: prestrain must be in [0, 0.5)");
   const int n = s_.n;
-  const auto count = static_cast<std::size_t>(n * n);
+  const auto count = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   x_.resize(count), y_.resize(count), z_.resize(count);
   fx_.resize(count), fy_.resize(count), fz_.resize(count);
   fixed_.resize(count), under_tip_.resize(count);
@@ -85,7 +86,8 @@ void MassSpringCornea::step(double dt_s, double tip_depth_mm, bool punctured) no
     if (cut_ && tip_depth_mm > 0.0 && std::abs(y_[i]) <= s_.blade_width_mm / 2.0) {
       // The blade holds the cut open to its thickness.
       if (x_[i] < 0.25 * spacing_mm() && x_[i] > -open) x_[i] = -open;
-      if (x_[i] >= 0.25 * spacing_mm() && x_[i] < open + 0.25 * spacing_mm()) x_[i] = open + 0.25 * spacing_mm();
+      if (x_[i] >= 0.25 * spacing_mm() && x_[i] < open + 0.25 * spacing_mm())
+        x_[i] = open + 0.25 * spacing_mm();
     }
   }
 }
@@ -101,7 +103,8 @@ int MassSpringCornea::cross_section(double* x_mm, double* z_mm, int capacity) co
   return count;
 }
 
-int MassSpringCornea::positions(double* x_mm, double* y_mm, double* z_mm, int capacity) const noexcept {
+int MassSpringCornea::positions(double* x_mm, double* y_mm, double* z_mm,
+                                int capacity) const noexcept {
   const int count = vertex_count();
   if (count > capacity) return 0;
   std::copy(x_.begin(), x_.end(), x_mm);

@@ -10,8 +10,8 @@
 namespace rig::haptic {
 
 struct MeshSettings {
-  int n = 13;                       // vertices per side
-  double patch_mm = 6.0;            // side of the square patch; spacing = patch / (n - 1)
+  int n = 13;             // vertices per side
+  double patch_mm = 6.0;  // side of the square patch; spacing = patch / (n - 1)
   double k_stretch_N_per_mm = 1.0;
   double k_shear_N_per_mm = 0.5;
   double k_bend_N_per_mm = 0.2;

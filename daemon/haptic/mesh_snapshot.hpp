@@ -8,7 +8,7 @@ namespace rig::haptic {
 
 struct MeshSnapshot {
   static constexpr int kMaxPoints = 256;
-  std::uint64_t sequence = 0;   // 0: nothing published yet
+  std::uint64_t sequence = 0;  // 0: nothing published yet
   double t_s = 0.0;
   double tip_depth_mm = 0.0;
   double force_N = 0.0;
@@ -20,7 +20,7 @@ struct MeshSnapshot {
   int grid_count = 0;                            // 0: mesh too fine, not published whole
   double grid_x_mm[kMaxGridVertices]{};          // row-major, as MassSpringCornea numbers them
   double grid_y_mm[kMaxGridVertices]{};
-  double grid_z_mm[kMaxGridVertices]{};          // depth, + into the eye
+  double grid_z_mm[kMaxGridVertices]{};  // depth, + into the eye
 };
 
 }  // namespace rig::haptic

@@ -19,13 +19,18 @@ double deepest_mm(const model::RunData& run) {
 
 }  // namespace
 
-Playback::Playback(const PlaybackOptions& options, const model::ForceModel& reference, std::optional<model::RunData> run)
-    : options_(options), reference_(std::make_unique<ModelForceSource>(reference, options.iop_mmHg)) {
-  if (options.velocity_mm_s <= 0.0) throw std::invalid_argument("--velocity must be positive [mm/s]");
+Playback::Playback(const PlaybackOptions& options, const model::ForceModel& reference,
+                   std::optional<model::RunData> run)
+    : options_(options),
+      reference_(std::make_unique<ModelForceSource>(reference, options.iop_mmHg)) {
+  if (options.velocity_mm_s <= 0.0)
+    throw std::invalid_argument("--velocity must be positive [mm/s]");
   if (run) run_reference_ = std::make_unique<RecordedRunSource>(*run);
   double depth = options.depth_mm.value_or(reference.final_depth_mm(options.iop_mmHg) + 0.5);
   switch (options.source.kind) {
-    case SourceSpec::Kind::kModel: source_ = std::make_unique<ModelForceSource>(reference, options.iop_mmHg); break;
+    case SourceSpec::Kind::kModel:
+      source_ = std::make_unique<ModelForceSource>(reference, options.iop_mmHg);
+      break;
     case SourceSpec::Kind::kRun:
       if (!run) throw std::invalid_argument("haptic source run: no run was loaded");
       source_ = std::make_unique<RecordedRunSource>(*run);
@@ -66,7 +71,8 @@ Playback::Playback(const PlaybackOptions& options, const model::ForceModel& refe
 
 Playback::~Playback() = default;
 
-PlaybackResult Playback::run(const std::function<void(const MeshSnapshot&)>& on_mesh, const std::atomic<bool>* cancel) {
+PlaybackResult Playback::run(const std::function<void(const MeshSnapshot&)>& on_mesh,
+                             const std::atomic<bool>* cancel) {
   PlaybackResult result;
   result.report = session_->run(on_mesh, cancel, options_.max_s);
   if (sim_ != nullptr) {

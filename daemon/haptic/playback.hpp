@@ -25,15 +25,15 @@ class VirtualHand;
 namespace rig::haptic {
 
 struct PlaybackOptions {
-  std::string device = "sim";         // sim or phantom
+  std::string device = "sim";  // sim or phantom
   SourceSpec source;
-  double velocity_mm_s = 2.0;         // virtual hand [mm/s]
-  double iop_mmHg = 15.0;             // the model's IOP [mmHg]
-  std::optional<double> depth_mm;     // virtual hand's deepest point [mm]
-  int mesh_n = 13;                    // 13: the paper's 169 vertices, 886 springs
-  bool real_time = true;              // sim: 1 kHz on a real-time thread; false: virtual clock
-  std::string library = "libHD.so";   // OpenHaptics HD library
-  double max_s = 120.0;               // session limit [s]
+  double velocity_mm_s = 2.0;        // virtual hand [mm/s]
+  double iop_mmHg = 15.0;            // the model's IOP [mmHg]
+  std::optional<double> depth_mm;    // virtual hand's deepest point [mm]
+  int mesh_n = 13;                   // 13: the paper's 169 vertices, 886 springs
+  bool real_time = true;             // sim: 1 kHz on a real-time thread; false: virtual clock
+  std::string library = "libHD.so";  // OpenHaptics HD library
+  double max_s = 120.0;              // session limit [s]
 };
 
 struct PlaybackResult {
@@ -46,9 +46,11 @@ class Playback {
  public:
   // reference: the model the felt force is compared with (and rendered, for a model source).
   // run: the recorded run (rendered for a run source, else only compared with), if any.
-  Playback(const PlaybackOptions& options, const model::ForceModel& reference, std::optional<model::RunData> run);
+  Playback(const PlaybackOptions& options, const model::ForceModel& reference,
+           std::optional<model::RunData> run);
   ~Playback();
-  PlaybackResult run(const std::function<void(const MeshSnapshot&)>& on_mesh, const std::atomic<bool>* cancel);
+  PlaybackResult run(const std::function<void(const MeshSnapshot&)>& on_mesh,
+                     const std::atomic<bool>* cancel);
   LiveForceSource* live_source() { return live_; }
   drivers::FollowingHand* following_hand() { return following_; }
   const std::string& device_name() const { return device_name_; }

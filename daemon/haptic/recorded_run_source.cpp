@@ -7,7 +7,8 @@
 namespace rig::haptic {
 
 RecordedRunSource::RecordedRunSource(const model::RunData& run) {
-  const auto deepest = static_cast<std::size_t>(std::max_element(run.x_mm.begin(), run.x_mm.end()) - run.x_mm.begin());
+  const auto deepest = static_cast<std::size_t>(std::max_element(run.x_mm.begin(), run.x_mm.end()) -
+                                                run.x_mm.begin());
   const double depth = run.x_mm[deepest];
   if (depth <= kBin_mm) throw std::invalid_argument(run.source + ": no insertion to render");
   const auto bins = static_cast<std::size_t>(depth / kBin_mm) + 1;
@@ -35,7 +36,8 @@ double RecordedRunSource::insertion_force_N(double depth_mm) const noexcept {
   return table_[b] * (1.0 - w) + table_[b + 1] * w;
 }
 
-double RecordedRunSource::force_N(double depth_mm, double front_mm, double /*velocity_mm_s*/) const noexcept {
+double RecordedRunSource::force_N(double depth_mm, double front_mm,
+                                  double /*velocity_mm_s*/) const noexcept {
   if (depth_mm >= front_mm) return insertion_force_N(depth_mm);
   return insertion_force_N(front_mm) * std::max(0.0, 1.0 - (front_mm - depth_mm) / kRelease_mm);
 }

@@ -20,19 +20,20 @@ namespace rig::haptic {
 
 struct ServoCounters {
   std::atomic<std::uint64_t> ticks{0};
-  std::atomic<std::uint64_t> nonfinite_forces{0};  // NaN/inf from the source, rendered as 0 N
+  std::atomic<std::uint64_t> nonfinite_forces{0};     // NaN/inf from the source, rendered as 0 N
   std::atomic<std::uint64_t> nonfinite_positions{0};  // NaN/inf from the device: 0 N, state kept
-  std::atomic<std::uint64_t> clamped_ticks{0};     // force limited to the device's maximum
+  std::atomic<std::uint64_t> clamped_ticks{0};        // force limited to the device's maximum
   std::atomic<std::uint64_t> slew_limited_ticks{0};
-  std::atomic<std::uint64_t> overruns{0};          // tick took longer than the period
-  std::atomic<std::uint64_t> late_ticks{0};        // tick started > 1.5 periods after the last
-  std::atomic<std::uint8_t> fault{0};              // drivers::HapticFault reported by the device
+  std::atomic<std::uint64_t> overruns{0};    // tick took longer than the period
+  std::atomic<std::uint64_t> late_ticks{0};  // tick started > 1.5 periods after the last
+  std::atomic<std::uint8_t> fault{0};        // drivers::HapticFault reported by the device
 };
 
 class ServoLoop final : public drivers::HapticServo {
  public:
   // limits: as the device reports them. Allocates the mesh here, never in tick().
-  ServoLoop(const ServoSettings& settings, const ForceSource& source, const drivers::HapticLimits& limits);
+  ServoLoop(const ServoSettings& settings, const ForceSource& source,
+            const drivers::HapticLimits& limits);
 
   drivers::Vec3 tick(const drivers::Vec3& position_mm, double t_s) noexcept override;
   void device_fault(drivers::HapticFault fault) noexcept override;

@@ -6,7 +6,8 @@ namespace rig::haptic {
 
 SourceSpec SourceSpec::parse(const std::string& text) {
   const auto fail = [&text] {
-    return std::invalid_argument("haptic source '" + text + "': expected model, model:FILE, run:ID or live");
+    return std::invalid_argument("haptic source '" + text +
+                                 "': expected model, model:FILE, run:ID or live");
   };
   if (text == "model") return {Kind::kModel, ""};
   if (text == "live") return {Kind::kLive, ""};

@@ -11,10 +11,13 @@ namespace {
 constexpr int kWatchdogPriority = 85;  // SCHED_FIFO
 }  // namespace
 
-StallWatchdog::StallWatchdog(drivers::HapticDevice& device, std::chrono::milliseconds timeout, std::chrono::milliseconds poll)
+StallWatchdog::StallWatchdog(drivers::HapticDevice& device, std::chrono::milliseconds timeout,
+                             std::chrono::milliseconds poll)
     : device_(device), timeout_(timeout), poll_(poll) {}
 
-StallWatchdog::~StallWatchdog() { stop(); }
+StallWatchdog::~StallWatchdog() {
+  stop();
+}
 
 void StallWatchdog::start() {
   if (timeout_.count() <= 0) return;  // off: no hand on a device (a simulated one on virtual time)
@@ -40,7 +43,9 @@ void StallWatchdog::stop() noexcept {
 void StallWatchdog::run() noexcept {
   using Clock = std::chrono::steady_clock;
   const Clock::time_point start = Clock::now();
-  auto now_ms = [start] { return std::chrono::duration<double, std::milli>(Clock::now() - start).count(); };
+  auto now_ms = [start] {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
   ServoSilence silence(std::chrono::duration<double, std::milli>(poll_).count());
   silence.poll(now_ms(), device_.ticks(), device_.running());
   const double timeout_ms = std::chrono::duration<double, std::milli>(timeout_).count();

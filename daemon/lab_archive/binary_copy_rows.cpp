@@ -20,7 +20,9 @@ int hex_digit(char c) {
 
 }  // namespace
 
-BinaryCopyRows::BinaryCopyRows() { bytes_.assign(kHeader, kHeaderBytes); }
+BinaryCopyRows::BinaryCopyRows() {
+  bytes_.assign(kHeader, kHeaderBytes);
+}
 
 void BinaryCopyRows::put16(std::uint16_t value) {
   const char raw[2] = {static_cast<char>(value >> 8), static_cast<char>(value)};
@@ -50,7 +52,9 @@ BinaryCopyRows& BinaryCopyRows::field(double value) {
   return *this;
 }
 
-BinaryCopyRows& BinaryCopyRows::field(const std::optional<double>& value) { return value ? field(*value) : null(); }
+BinaryCopyRows& BinaryCopyRows::field(const std::optional<double>& value) {
+  return value ? field(*value) : null();
+}
 
 BinaryCopyRows& BinaryCopyRows::field(std::int64_t value) {
   put32(8);
@@ -60,7 +64,8 @@ BinaryCopyRows& BinaryCopyRows::field(std::int64_t value) {
 
 BinaryCopyRows& BinaryCopyRows::field_int16(std::int64_t value) {
   if (value < -32768 || value > 32767) {
-    throw LabArchiveError("lab archive: " + std::to_string(value) + " does not fit a smallint column");
+    throw LabArchiveError("lab archive: " + std::to_string(value) +
+                          " does not fit a smallint column");
   }
   put32(2);
   put16(static_cast<std::uint16_t>(static_cast<std::int16_t>(value)));
@@ -74,11 +79,13 @@ std::string BinaryCopyRows::uuid_bytes(std::string_view text) {
     if (text[i] == '-' && (i == 8 || i == 13 || i == 18 || i == 23)) continue;
     const int high = hex_digit(text[i]);
     const int low = i + 1 < text.size() ? hex_digit(text[i + 1]) : -1;
-    if (high < 0 || low < 0 || raw.size() == kBytes) throw LabArchiveError("lab archive: '" + std::string(text) + "' is not a UUID");
+    if (high < 0 || low < 0 || raw.size() == kBytes)
+      throw LabArchiveError("lab archive: '" + std::string(text) + "' is not a UUID");
     raw += static_cast<char>(high * 16 + low);
     ++i;
   }
-  if (raw.size() != kBytes) throw LabArchiveError("lab archive: '" + std::string(text) + "' is not a UUID");
+  if (raw.size() != kBytes)
+    throw LabArchiveError("lab archive: '" + std::string(text) + "' is not a UUID");
   return raw;
 }
 
@@ -88,7 +95,9 @@ BinaryCopyRows& BinaryCopyRows::field_uuid(std::string_view bytes) {
   return *this;
 }
 
-BinaryCopyRows& BinaryCopyRows::field_timestamptz(std::int64_t microseconds_since_2000) { return field(microseconds_since_2000); }
+BinaryCopyRows& BinaryCopyRows::field_timestamptz(std::int64_t microseconds_since_2000) {
+  return field(microseconds_since_2000);
+}
 
 BinaryCopyRows& BinaryCopyRows::null() {
   put32(0xFFFFFFFFU);  // length -1

@@ -16,10 +16,10 @@ class BinaryCopyRows {
   BinaryCopyRows();
   // Starts a row of `fields` fields; every row of one COPY has the table's column count.
   void begin_row(std::int16_t fields);
-  BinaryCopyRows& field(double value);                 // float8
+  BinaryCopyRows& field(double value);  // float8
   BinaryCopyRows& field(const std::optional<double>& value);
-  BinaryCopyRows& field(std::int64_t value);           // int8
-  BinaryCopyRows& field_int16(std::int64_t value);     // int2 (throws outside -32768..32767)
+  BinaryCopyRows& field(std::int64_t value);        // int8
+  BinaryCopyRows& field_int16(std::int64_t value);  // int2 (throws outside -32768..32767)
   // uuid: its 16 bytes, from uuid_bytes() (parsed once for the many rows of one run).
   BinaryCopyRows& field_uuid(std::string_view bytes);
   // The 16 bytes of a uuid written "8-4-4-4-12" in hex; throws LabArchiveError if malformed.

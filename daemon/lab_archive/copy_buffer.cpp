@@ -14,11 +14,20 @@ CopyBuffer& CopyBuffer::field(std::string_view text) {
   separate();
   for (const char c : text) {
     switch (c) {
-      case '\\': text_ += "\\\\"; break;
-      case '\t': text_ += "\\t"; break;
-      case '\n': text_ += "\\n"; break;
-      case '\r': text_ += "\\r"; break;
-      default: text_ += c;
+      case '\\':
+        text_ += "\\\\";
+        break;
+      case '\t':
+        text_ += "\\t";
+        break;
+      case '\n':
+        text_ += "\\n";
+        break;
+      case '\r':
+        text_ += "\\r";
+        break;
+      default:
+        text_ += c;
     }
   }
   return *this;
@@ -46,7 +55,9 @@ CopyBuffer& CopyBuffer::field(std::int64_t value) {
   return *this;
 }
 
-CopyBuffer& CopyBuffer::field(const std::optional<double>& value) { return value ? field(*value) : null(); }
+CopyBuffer& CopyBuffer::field(const std::optional<double>& value) {
+  return value ? field(*value) : null();
+}
 
 CopyBuffer& CopyBuffer::null() {
   separate();

@@ -1,7 +1,7 @@
 #include "lab_replicator.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -23,14 +23,19 @@ std::string status_json(const ReplicatorStatus& s) {
       .dump();
 }
 
-LabReplicator::LabReplicator(LabArchiveSettings settings, std::string sqlite_path, std::string software_version)
-    : settings_(std::move(settings)), sqlite_path_(std::move(sqlite_path)), software_version_(std::move(software_version)) {
+LabReplicator::LabReplicator(LabArchiveSettings settings, std::string sqlite_path,
+                             std::string software_version)
+    : settings_(std::move(settings)),
+      sqlite_path_(std::move(sqlite_path)),
+      software_version_(std::move(software_version)) {
   if (settings_.rig_id.empty()) settings_.rig_id = default_rig_id();
   status_.enabled = true;
   status_.rig_id = settings_.rig_id;
 }
 
-LabReplicator::~LabReplicator() { stop(); }
+LabReplicator::~LabReplicator() {
+  stop();
+}
 
 void LabReplicator::start() {
   connection_params(settings_);  // a bad password file stops rigd at start, with its name
@@ -57,7 +62,8 @@ void LabReplicator::wait(int milliseconds) {
 }
 
 std::int64_t LabReplicator::pass(std::unique_ptr<PgConnection>& db) {
-  if (!shipper_) shipper_ = std::make_unique<RunShipper>(sqlite_path_, settings_.rig_id, software_version_);
+  if (!shipper_)
+    shipper_ = std::make_unique<RunShipper>(sqlite_path_, settings_.rig_id, software_version_);
   if (!db) {
     db = std::make_unique<PgConnection>(connection_params(settings_));
     create_or_migrate_lab_schema(*db);
@@ -110,6 +116,8 @@ void LabReplicator::run() {
     }
     if (backlog_samples < 0) {
       wait(retry_ms);
+      // Read by the next failed pass (a pass that succeeds sets it back to 250 ms).
+      // NOLINTNEXTLINE(clang-analyzer-deadcode.DeadStores)
       retry_ms = std::min(retry_ms * 2, settings_.retry_max_ms);
     } else if (!budget_full && backlog_samples < settings_.batch_samples) {
       wait(settings_.interval_ms);

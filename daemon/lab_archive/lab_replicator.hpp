@@ -22,7 +22,7 @@ struct ReplicatorStatus {
   Backlog backlog;
   std::int64_t samples_shipped = 0;  // since rigd started
   std::string last_error;
-  std::string last_shipped_at;       // UTC ISO 8601 of the last pass that shipped anything
+  std::string last_shipped_at;  // UTC ISO 8601 of the last pass that shipped anything
   std::string rig_id;
 };
 

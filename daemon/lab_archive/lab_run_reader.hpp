@@ -17,7 +17,8 @@ struct LabRunFilter {
   std::string eye_lot;
   std::string since;  // ISO 8601 date or timestamp: runs created at or after it
   std::string run;    // one run uuid
-  std::vector<std::pair<std::string, std::string>> meta;  // eye_id, operator, outcome, source or any extra key
+  std::vector<std::pair<std::string, std::string>>
+      meta;  // eye_id, operator, outcome, source or any extra key
   // "rig=R", "eye_lot=L" (or eye-lot), "since=D", "run=UUID", anything else: metadata.
   // Throws naming the argument if it is not key=value.
   void add(const std::string& key_value);
@@ -40,7 +41,8 @@ struct LabRunRow {
 class LabRunReader {
  public:
   explicit LabRunReader(const std::string& conninfo);
-  explicit LabRunReader(const ConnectionParams& params);  // as rigd connects (lab_archive_settings.hpp)
+  explicit LabRunReader(
+      const ConnectionParams& params);  // as rigd connects (lab_archive_settings.hpp)
   std::vector<LabRunRow> list_runs(const LabRunFilter& filter);
   model::RunData load_run(const std::string& run_uuid);
   PgConnection& connection() { return db_; }

@@ -63,9 +63,11 @@ void migrate_from(PgConnection& db, int version) {
 }  // namespace
 
 int lab_schema_version(PgConnection& db) {
-  PgResult exists = db.query("SELECT to_regclass('lab_schema') IS NOT NULL", {}, "look for the lab archive schema");
+  PgResult exists = db.query("SELECT to_regclass('lab_schema') IS NOT NULL", {},
+                             "look for the lab archive schema");
   if (exists.text(0, 0) != "t") return 0;
-  PgResult version = db.query("SELECT max(version) FROM lab_schema", {}, "read the lab archive schema version");
+  PgResult version =
+      db.query("SELECT max(version) FROM lab_schema", {}, "read the lab archive schema version");
   return version.is_null(0, 0) ? 0 : static_cast<int>(version.integer(0, 0));
 }
 
@@ -74,8 +76,9 @@ void create_or_migrate_lab_schema(PgConnection& db) {
   db.exec(kSchemaLock, "lock the lab archive schema");
   const int version = lab_schema_version(db);
   if (version > kLabSchemaVersion) {
-    throw LabArchiveError("lab archive: the database has schema version " + std::to_string(version) +
-                          ", newer than this rigd's " + std::to_string(kLabSchemaVersion) + "; update rigd");
+    throw LabArchiveError("lab archive: the database has schema version " +
+                          std::to_string(version) + ", newer than this rigd's " +
+                          std::to_string(kLabSchemaVersion) + "; update rigd");
   }
   migrate_from(db, version);
   tx.commit();

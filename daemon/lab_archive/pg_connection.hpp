@@ -48,9 +48,11 @@ class PgConnection {
   explicit PgConnection(const ConnectionParams& params);
   bool ok() const;
   void exec(const std::string& sql, const std::string& what);
-  PgResult query(const std::string& sql, const std::vector<std::string>& params, const std::string& what);
+  PgResult query(const std::string& sql, const std::vector<std::string>& params,
+                 const std::string& what);
   // As query(), with nullptr for SQL NULL.
-  PgResult query_raw(const std::string& sql, const std::vector<const char*>& params, const std::string& what);
+  PgResult query_raw(const std::string& sql, const std::vector<const char*>& params,
+                     const std::string& what);
   // COPY ... FROM STDIN with the given text-format payload (tab-separated, \N = NULL).
   void copy_in(const std::string& copy_sql, const std::string& payload, const std::string& what);
   // The same in pieces (PgCopyIn wraps these): start, send any number of pieces, end. A COPY

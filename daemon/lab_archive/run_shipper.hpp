@@ -41,7 +41,7 @@ class RunShipper {
     std::int64_t events = 0;
     std::int64_t frames = 0;
     std::string outcome;
-    bool new_on_server = false;  // the upsert inserted the run (its channels go along)
+    bool new_on_server = false;      // the upsert inserted the run (its channels go along)
     std::int64_t created_at_us = 0;  // the run's created_at on the server [us since 2000-01-01 UTC]
   };
   struct LocalRun {
@@ -58,8 +58,8 @@ class RunShipper {
   std::int64_t ship_run(PgConnection& db, const LocalRun& run, std::int64_t max_samples);
   Watermark upsert_run(PgConnection& db, const LocalRun& run);
   // Samples after mark.last_idx, at most `limit`; last_idx becomes the last one sent.
-  std::int64_t copy_samples(PgConnection& db, const LocalRun& run, const Watermark& mark, std::int64_t limit,
-                            std::int64_t& last_idx);
+  std::int64_t copy_samples(PgConnection& db, const LocalRun& run, const Watermark& mark,
+                            std::int64_t limit, std::int64_t& last_idx);
   std::int64_t copy_events(PgConnection& db, const LocalRun& run, std::int64_t already);
   std::int64_t copy_frames(PgConnection& db, const LocalRun& run, std::int64_t already);
   void copy_channels(PgConnection& db, const LocalRun& run);

@@ -8,6 +8,7 @@
 
 namespace rig::lab_archive {
 
-std::string lab_run_uuid(const std::string& rig_id, std::int64_t local_run_id, const std::string& created_at);
+std::string lab_run_uuid(const std::string& rig_id, std::int64_t local_run_id,
+                         const std::string& created_at);
 
 }  // namespace rig::lab_archive

@@ -14,7 +14,9 @@ ControlLoop::ControlLoop(const LoopSettings& settings, const LoopHardware& hardw
       interlocks_(settings),
       controller_(settings.gains),
       period_ns_(static_cast<std::int64_t>(std::llround(1e9 / settings.rate_hz))),
-      max_step_s_(std::max(10.0 * static_cast<double>(period_ns_), settings.daq_watchdog_ms * 1e6 + 5.0 * static_cast<double>(period_ns_)) * 1e-9) {}
+      max_step_s_(std::max(10.0 * static_cast<double>(period_ns_),
+                           settings.daq_watchdog_ms * 1e6 + 5.0 * static_cast<double>(period_ns_)) *
+                  1e-9) {}
 
 // Inside a cycle, before its sample is out, events wait in held_events_: the recorder must
 // find a cycle's sample in its ring once it has that cycle's events (a run's end and the
@@ -28,8 +30,10 @@ void ControlLoop::emit(const Event& event) noexcept {
 }
 
 void ControlLoop::push_event(const Event& event) noexcept {
-  if (!ch_->recorder_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
-  if (!ch_->stream_events.try_push(event)) ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
+  if (!ch_->recorder_events.try_push(event))
+    ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
+  if (!ch_->stream_events.try_push(event))
+    ch_->counters.event_drops.fetch_add(1, std::memory_order_relaxed);
 }
 
 void ControlLoop::release_held_events() noexcept {
@@ -60,7 +64,8 @@ void ControlLoop::wait_and_cycle() noexcept {
     ch_->counters.overruns.fetch_add(1, std::memory_order_relaxed);
     // Skip the deadlines already lost instead of bursting to catch up.
     lost = (after - next_deadline_ns_) / period_ns_ + 1;
-    ch_->counters.missed_cycles.fetch_add(static_cast<std::uint64_t>(lost), std::memory_order_relaxed);
+    ch_->counters.missed_cycles.fetch_add(static_cast<std::uint64_t>(lost),
+                                          std::memory_order_relaxed);
     next_deadline_ns_ += lost * period_ns_;
   }
   overrun_storm_ = note_missed(lost);
@@ -68,16 +73,18 @@ void ControlLoop::wait_and_cycle() noexcept {
 
 bool ControlLoop::note_missed(std::int64_t missed_deadlines) noexcept {
   deadline_index_ += 1 + static_cast<std::uint64_t>(missed_deadlines);
-  const auto window =
-      static_cast<std::uint64_t>(std::clamp(s_.safety.overrun_storm_window_cycles, 1, kMaxStormWindowDeadlines));
+  const auto window = static_cast<std::uint64_t>(
+      std::clamp(s_.safety.overrun_storm_window_cycles, 1, kMaxStormWindowDeadlines));
   // The window's old overruns leave the sum before a new one takes a slot (see overruns_).
-  while (oldest_overrun_ < overrun_count_ && deadline_index_ - overruns_[oldest_overrun_ % overruns_.size()].deadline >= window)
+  while (oldest_overrun_ < overrun_count_ &&
+         deadline_index_ - overruns_[oldest_overrun_ % overruns_.size()].deadline >= window)
     missed_in_window_ -= overruns_[oldest_overrun_++ % overruns_.size()].missed;
   if (missed_deadlines > 0) {
     overruns_[overrun_count_++ % overruns_.size()] = {deadline_index_, missed_deadlines};
     missed_in_window_ += missed_deadlines;
   }
-  return missed_in_window_ >= std::clamp(s_.safety.overrun_storm_missed_cycles, 1, kMaxStormWindowDeadlines);
+  return missed_in_window_ >=
+         std::clamp(s_.safety.overrun_storm_missed_cycles, 1, kMaxStormWindowDeadlines);
 }
 
 void ControlLoop::run(const std::atomic<bool>& stop) noexcept {
@@ -97,7 +104,8 @@ void ControlLoop::shut_down() noexcept {
   write_outputs(off);
 }
 
-void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
+void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns,
+                             std::int64_t latency_ns) noexcept {
   const bool woke_late = latency_ns > period_ns_ / 2;
   if (woke_late) ch_->counters.late_wakes.fetch_add(1, std::memory_order_relaxed);
   // Not excused: a failed read that lasted long. Measured under load, a 700 us select() came
@@ -115,7 +123,8 @@ void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t l
       ch_->counters.late_wake_misses.fetch_add(1, std::memory_order_relaxed);
     } else {
       // The DAQ had the time since the previous request to answer (at most two periods).
-      unanswered_ns_ += std::min(static_cast<std::int64_t>(std::llround(in.dt_s * 1e9)), 2 * period_ns_);
+      unanswered_ns_ +=
+          std::min(static_cast<std::int64_t>(std::llround(in.dt_s * 1e9)), 2 * period_ns_);
     }
   }
   in.consecutive_misses = consecutive_misses_;
@@ -126,13 +135,15 @@ void ControlLoop::judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t l
   // keeps both rigd and the DAQ off the CPU for 100 ms costs a few requests, not 100.
   const double silent_ms = static_cast<double>(now_ns - last_valid_reply_ns_) * 1e-6;
   const double period_ms = static_cast<double>(period_ns_) * 1e-6;
-  const int max_failed_requests = static_cast<int>(std::ceil(4.0 * s_.safety.link_lost_after_ms / period_ms));
+  const int max_failed_requests =
+      static_cast<int>(std::ceil(4.0 * s_.safety.link_lost_after_ms / period_ms));
   in.link_lost = !in.io_ok && (in.unanswered_ms >= s_.safety.link_lost_after_ms - 1e-6 ||
                                consecutive_misses_ >= max_failed_requests);
   if (in.link_lost && in.unanswered_ms < s_.safety.link_lost_after_ms) in.unanswered_ms = silent_ms;
 }
 
-void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept {
+void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns,
+                              std::int64_t latency_ns) noexcept {
   in.t_s = static_cast<double>(now_ns - start_ns_) * 1e-9;
   // Busy VMs hold the loop 10-17 ms at a time; a 10-period cap lost ~1-3 % of the cut's velocity.
   in.dt_s = std::clamp(static_cast<double>(now_ns - previous_now_ns_) * 1e-9, 1e-6, max_step_s_);
@@ -143,8 +154,10 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t 
   const drivers::IoStatus digital = hw_.digital->read(inputs);
   in.io_ok = analog == drivers::IoStatus::kOk && digital == drivers::IoStatus::kOk;
   if (in.io_ok) {
-    // A counter that goes backwards is a DAQ that started again (u32 wrap-around is a step forwards).
-    in.daq_restarted = have_frame_ && static_cast<std::int32_t>(frame.sequence - last_frame_.sequence) < 0;
+    // A counter that goes backwards is a DAQ that started again (u32 wrap-around is a step
+    // forwards).
+    in.daq_restarted =
+        have_frame_ && static_cast<std::int32_t>(frame.sequence - last_frame_.sequence) < 0;
     have_frame_ = true;
     last_frame_ = frame;
     last_inputs_ = inputs;
@@ -159,7 +172,8 @@ void ControlLoop::read_inputs(CycleInput& in, std::int64_t now_ns, std::int64_t 
   in.position_mm = in.raw_position_mm + machine_.home_offset_mm();
   in.iop_mmHg = cal.iop.to_units(last_frame_.iop_volts);
   const double alpha = in.dt_s / (s_.gains.velocity_filter_s + in.dt_s);
-  if (cycle_ > 0) velocity_mm_s_ += alpha * ((in.position_mm - last_position_mm_) / in.dt_s - velocity_mm_s_);
+  if (cycle_ > 0)
+    velocity_mm_s_ += alpha * ((in.position_mm - last_position_mm_) / in.dt_s - velocity_mm_s_);
   last_position_mm_ = in.position_mm;
   in.velocity_mm_s = velocity_mm_s_;
   in.overrun_storm = overrun_storm_;
@@ -177,20 +191,26 @@ void ControlLoop::drain_commands(const CycleInput& in) noexcept {
   }
 }
 
-drivers::DriveCommand ControlLoop::control(const CycleInput& in, const MotionRequest& motion) noexcept {
+drivers::DriveCommand ControlLoop::control(const CycleInput& in,
+                                           const MotionRequest& motion) noexcept {
   drivers::DriveCommand command;
   command.pump_command = machine_.regulate_iop(in);
-  if (motion.reset_reference || motion.mode == MotionRequest::Mode::kOff) controller_.reset(in.position_mm);
+  if (motion.reset_reference || motion.mode == MotionRequest::Mode::kOff)
+    controller_.reset(in.position_mm);
   switch (motion.mode) {
-    case MotionRequest::Mode::kOff: arrived_ = false; return command;
+    case MotionRequest::Mode::kOff:
+      arrived_ = false;
+      return command;
     case MotionRequest::Mode::kHold:
       command.motor_volts = controller_.track_velocity(0.0, in.position_mm, in.dt_s);
       break;
     case MotionRequest::Mode::kVelocity:
-      command.motor_volts = controller_.track_velocity(motion.velocity_mm_s, in.position_mm, in.dt_s);
+      command.motor_volts =
+          controller_.track_velocity(motion.velocity_mm_s, in.position_mm, in.dt_s);
       break;
     case MotionRequest::Mode::kMoveTo:
-      command.motor_volts = controller_.move_to(motion.target_mm, motion.speed_mm_s, in.position_mm, in.dt_s, arrived_);
+      command.motor_volts = controller_.move_to(motion.target_mm, motion.speed_mm_s, in.position_mm,
+                                                in.dt_s, arrived_);
       break;
   }
   command.motor_enable = true;
@@ -215,8 +235,9 @@ void ControlLoop::note_write(drivers::IoStatus written, bool read_ok) noexcept {
     write_refused_ = false;
   } else if (read_ok) {
     write_refused_ = written == drivers::IoStatus::kRefused;
-    failed_writes_ = written == drivers::IoStatus::kRefused ? std::max(failed_writes_ + 1, s_.safety.max_failed_writes)
-                                                            : failed_writes_ + 1;
+    failed_writes_ = written == drivers::IoStatus::kRefused
+                         ? std::max(failed_writes_ + 1, s_.safety.max_failed_writes)
+                         : failed_writes_ + 1;
     ch_->counters.write_failures.fetch_add(1, std::memory_order_relaxed);
   }
 }
@@ -229,10 +250,12 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   const std::int64_t run_open_before = machine_.recording_run_id();
   holding_events_ = true;
   drain_commands(in);
-  const InterlockVerdict verdict = interlocks_.check(in, machine_, controller_.following_error_mm());
+  const InterlockVerdict verdict =
+      interlocks_.check(in, machine_, controller_.following_error_mm());
   if (verdict.code != FaultCode::kNone) machine_.fault(verdict.code, verdict.value, in);
   constexpr double kAtRest_mm_s = 0.05;  // a move has ended when the carriage is also still
-  const MotionRequest motion = machine_.step(in, arrived_ && std::abs(in.velocity_mm_s) < kAtRest_mm_s);
+  const MotionRequest motion =
+      machine_.step(in, arrived_ && std::abs(in.velocity_mm_s) < kAtRest_mm_s);
   drivers::DriveCommand command = control(in, motion);
   note_write(write_outputs(command), in.io_ok);
   publish(in, command, static_cast<float>(latency_ns) * 1e-3F,
@@ -247,8 +270,8 @@ void ControlLoop::cycle(std::int64_t now_ns, std::int64_t latency_ns) noexcept {
   ch_->counters.cycles.store(cycle_, std::memory_order_relaxed);
 }
 
-void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us,
-                          std::int64_t run_id) noexcept {
+void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& command,
+                          float latency_us, std::int64_t run_id) noexcept {
   Sample sample;
   sample.cycle = cycle_;
   sample.run_id = run_id;
@@ -267,10 +290,12 @@ void ControlLoop::publish(const CycleInput& in, const drivers::DriveCommand& com
     ch_->counters.recorder_drops.fetch_add(1, std::memory_order_relaxed);
     machine_.fault(FaultCode::kRecorderOverflow, static_cast<double>(ch_->recorder.capacity()), in);
   }
-  if (!ch_->stream.try_push(sample)) ch_->counters.stream_drops.fetch_add(1, std::memory_order_relaxed);
+  if (!ch_->stream.try_push(sample))
+    ch_->counters.stream_drops.fetch_add(1, std::memory_order_relaxed);
 }
 
-void ControlLoop::publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept {
+void ControlLoop::publish_status(const CycleInput& in,
+                                 const drivers::DriveCommand& command) noexcept {
   StatusSnapshot st;
   st.cycle = cycle_;
   st.t_s = in.t_s;

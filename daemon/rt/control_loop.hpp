@@ -49,10 +49,12 @@ class ControlLoop final : public EventSink {
   void judge_link(CycleInput& in, std::int64_t now_ns, std::int64_t latency_ns) noexcept;
   void drain_commands(const CycleInput& in) noexcept;
   drivers::DriveCommand control(const CycleInput& in, const MotionRequest& motion) noexcept;
-  drivers::IoStatus write_outputs(const drivers::DriveCommand& command) noexcept;  // the first failure
+  drivers::IoStatus write_outputs(
+      const drivers::DriveCommand& command) noexcept;  // the first failure
   void note_write(drivers::IoStatus written, bool read_ok) noexcept;
   // run_id: the run this cycle's sample belongs to (0: none) [archive run id].
-  void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us, std::int64_t run_id) noexcept;
+  void publish(const CycleInput& in, const drivers::DriveCommand& command, float latency_us,
+               std::int64_t run_id) noexcept;
   void publish_status(const CycleInput& in, const drivers::DriveCommand& command) noexcept;
   bool note_missed(std::int64_t missed_deadlines) noexcept;
   void shut_down() noexcept;
@@ -81,11 +83,12 @@ class ControlLoop final : public EventSink {
   bool arrived_ = false;
   bool overrun_storm_ = false;
   int consecutive_misses_ = 0;
-  int failed_writes_ = 0;   // output writes in a row refused in cycles whose read succeeded
+  int failed_writes_ = 0;       // output writes in a row refused in cycles whose read succeeded
   bool write_refused_ = false;  // the last failed write was an explicit refusal (else lost)
-  bool have_frame_ = false; // a valid frame was read (its sequence is the reference)
+  bool have_frame_ = false;     // a valid frame was read (its sequence is the reference)
   std::int64_t unanswered_ns_ = 0;
-  std::int64_t last_valid_reply_ns_ = 0;  // on-time cycles without a valid reply since the last one [ns]
+  std::int64_t last_valid_reply_ns_ =
+      0;  // on-time cycles without a valid reply since the last one [ns]
   double last_position_mm_ = 0.0;
   double velocity_mm_s_ = 0.0;
   drivers::AnalogFrame last_frame_{};

@@ -9,7 +9,8 @@ InterlockVerdict Interlocks::check(const CycleInput& in, const RunStateMachine& 
   const RunState state = machine.state();
   if (state == RunState::kEStop) return {};
   if (in.inputs.estop) return {FaultCode::kEstopInput, 1.0};
-  if (state == RunState::kFault || !is_motion_state(state)) return {};  // at rest: reported, not faulted
+  if (state == RunState::kFault || !is_motion_state(state))
+    return {};  // at rest: reported, not faulted
   if (in.link_lost) return {FaultCode::kLinkLost, in.unanswered_ms};
   const InterlockVerdict daq = check_daq(in);
   if (daq.code != FaultCode::kNone) return daq;
@@ -23,7 +24,8 @@ InterlockVerdict Interlocks::check_daq(const CycleInput& in) noexcept {
   if (in.daq_restarted) return {FaultCode::kDaqRestarted, 0.0};
   // Value: how many writes in a row were lost; 0 when the DAQ refused them outright.
   if (in.failed_writes >= s_.safety.max_failed_writes) {
-    return {FaultCode::kDaqWriteFailed, in.write_refused ? 0.0 : static_cast<double>(in.failed_writes)};
+    return {FaultCode::kDaqWriteFailed,
+            in.write_refused ? 0.0 : static_cast<double>(in.failed_writes)};
   }
   if (in.io_ok && in.inputs.daq_watchdog_tripped) return {FaultCode::kDaqWatchdogTripped, 1.0};
   return {};
@@ -40,15 +42,18 @@ InterlockVerdict Interlocks::check_motion(const CycleInput& in, const RunStateMa
     return {FaultCode::kForceLimit, in.force_N};
   }
   if (in.inputs.end_limit) return {FaultCode::kEndLimit, in.position_mm};
-  if (in.inputs.home_limit && state != RunState::kHoming) return {FaultCode::kHomeLimit, in.position_mm};
+  if (in.inputs.home_limit && state != RunState::kHoming)
+    return {FaultCode::kHomeLimit, in.position_mm};
   const bool searching_home = state == RunState::kHoming && !machine.homed();
   if (machine.homed() && !searching_home &&
       (in.position_mm < s_.motion.soft_min_mm || in.position_mm > s_.motion.soft_max_mm)) {
     return {FaultCode::kSoftLimit, in.position_mm};
   }
-  if (state != RunState::kArmed && std::abs(following_error_mm) > s_.safety.max_following_error_mm) {
+  if (state != RunState::kArmed &&
+      std::abs(following_error_mm) > s_.safety.max_following_error_mm) {
     // Searching home, a carriage that stops is at a hard stop: the home switch never closed.
-    if (searching_home) return {FaultCode::kHomingFailed, std::abs(in.raw_position_mm - machine.homing_start_mm())};
+    if (searching_home)
+      return {FaultCode::kHomingFailed, std::abs(in.raw_position_mm - machine.homing_start_mm())};
     return {FaultCode::kFollowingError, following_error_mm};
   }
   if (force_channel_stuck(in, machine)) return {FaultCode::kStuckForce, in.force_N};
@@ -69,7 +74,8 @@ bool Interlocks::iop_out_of_band(const CycleInput& in, const RunStateMachine& ma
   return iop_out_of_band_s_ * 1e3 >= s_.iop.fault_after_ms;
 }
 
-bool Interlocks::force_channel_stuck(const CycleInput& in, const RunStateMachine& machine) noexcept {
+bool Interlocks::force_channel_stuck(const CycleInput& in,
+                                     const RunStateMachine& machine) noexcept {
   constexpr double kInsideTissue_mm = 0.5;
   const bool cutting_tissue = machine.state() == RunState::kCutting &&
                               machine.phase() == CutPhase::kInsert &&

@@ -25,7 +25,8 @@ double JitterHistogram::upper_edge_us(int bin) noexcept {
 }
 
 void JitterHistogram::record(std::int64_t latency_ns) noexcept {
-  counts_[static_cast<std::size_t>(bin_of(latency_ns / 1000))].fetch_add(1, std::memory_order_relaxed);
+  counts_[static_cast<std::size_t>(bin_of(latency_ns / 1000))].fetch_add(1,
+                                                                         std::memory_order_relaxed);
   if (latency_ns > max_ns_.load(std::memory_order_relaxed)) {
     max_ns_.store(latency_ns, std::memory_order_relaxed);  // single writer
   }
@@ -39,7 +40,8 @@ void JitterHistogram::reset() noexcept {
 JitterHistogram::Snapshot JitterHistogram::snapshot() const {
   Snapshot snap;
   for (int i = 0; i < kBinCount; ++i) {
-    snap.counts[static_cast<std::size_t>(i)] = counts_[static_cast<std::size_t>(i)].load(std::memory_order_relaxed);
+    snap.counts[static_cast<std::size_t>(i)] =
+        counts_[static_cast<std::size_t>(i)].load(std::memory_order_relaxed);
     snap.total += snap.counts[static_cast<std::size_t>(i)];
   }
   snap.max_ns = max_ns_.load(std::memory_order_relaxed);

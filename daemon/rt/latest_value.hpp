@@ -17,8 +17,8 @@ class LatestValue {
  public:
   void publish(const T& value) noexcept {  // RT side
     buffers_[back_] = value;
-    const std::uint8_t previous = middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh),
-                                                   std::memory_order_acq_rel);
+    const std::uint8_t previous =
+        middle_.exchange(static_cast<std::uint8_t>(back_ | kFresh), std::memory_order_acq_rel);
     back_ = previous & kIndexMask;
   }
 
@@ -35,9 +35,9 @@ class LatestValue {
   static constexpr std::uint8_t kFresh = 0x4;
   static constexpr std::uint8_t kIndexMask = 0x3;
   T buffers_[3]{};
-  std::uint8_t back_ = 0;                  // writer's buffer
-  std::atomic<std::uint8_t> middle_{1};    // last published buffer (+ fresh flag)
-  std::uint8_t front_ = 2;                 // reader's buffer
+  std::uint8_t back_ = 0;                // writer's buffer
+  std::atomic<std::uint8_t> middle_{1};  // last published buffer (+ fresh flag)
+  std::uint8_t front_ = 2;               // reader's buffer
   std::mutex reader_mutex_;
 };
 

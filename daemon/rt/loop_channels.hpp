@@ -35,18 +35,22 @@ struct LoopCounters {
   std::atomic<std::uint64_t> io_misses{0};       // failed DAQ reads
   std::atomic<std::uint64_t> write_failures{0};  // output writes refused while reads succeeded
   std::atomic<std::uint64_t> late_wakes{0};      // cycles the loop began > half a period late
-  std::atomic<std::uint64_t> late_wake_misses{0};  // failed reads in those: rigd's lateness, not the link's
+  std::atomic<std::uint64_t> late_wake_misses{
+      0};  // failed reads in those: rigd's lateness, not the link's
   std::atomic<std::uint64_t> recorder_drops{0};  // must stay 0: a full ring faults the run
   std::atomic<std::uint64_t> stream_drops{0};    // live view only: dropping is allowed
   std::atomic<std::uint64_t> event_drops{0};
-  std::atomic<std::int64_t> start_ns{0};         // loop start on the clock's time line [ns]
+  std::atomic<std::int64_t> start_ns{0};  // loop start on the clock's time line [ns]
 };
 
 struct LoopChannels {
   // 2^16 samples = 65 s at 1 kHz of recorder slack.
   explicit LoopChannels(std::size_t sample_capacity = 1U << 16U)
-      : recorder(sample_capacity), stream(sample_capacity), recorder_events(4096),
-        stream_events(4096), commands(64) {}
+      : recorder(sample_capacity),
+        stream(sample_capacity),
+        recorder_events(4096),
+        stream_events(4096),
+        commands(64) {}
 
   SpscRing<Sample> recorder;
   SpscRing<Sample> stream;

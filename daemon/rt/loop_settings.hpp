@@ -3,8 +3,8 @@
 namespace rig::rt {
 
 struct LinearCalibration {
-  double offset_volts = 0.0;     // output at zero
-  double units_per_volt = 1.0;   // N/V, mm/V or mmHg/V
+  double offset_volts = 0.0;    // output at zero
+  double units_per_volt = 1.0;  // N/V, mm/V or mmHg/V
   double to_units(double volts) const { return (volts - offset_volts) * units_per_volt; }
 };
 
@@ -15,15 +15,15 @@ struct Calibration {
 };
 
 struct MotionSettings {
-  double park_mm = 18.0;             // carriage position where runs start and end
-  double surface_mm = 20.0;          // carriage position where the tip touches the cornea
-  double home_switch_mm = 0.5;       // carriage position at which the home switch closes
+  double park_mm = 18.0;        // carriage position where runs start and end
+  double surface_mm = 20.0;     // carriage position where the tip touches the cornea
+  double home_switch_mm = 0.5;  // carriage position at which the home switch closes
   double homing_velocity_mm_s = 4.0;
   double retract_velocity_mm_s = 4.0;
-  double min_velocity_mm_s = 0.5;    // allowed cutting velocities
+  double min_velocity_mm_s = 0.5;  // allowed cutting velocities
   double max_velocity_mm_s = 4.0;
   double max_depth_mm = 20.0;
-  double soft_min_mm = -0.5;         // soft travel limits (homed only)
+  double soft_min_mm = -0.5;  // soft travel limits (homed only)
   double soft_max_mm = 44.0;
   double max_homing_travel_mm = 60.0;
   double park_tolerance_mm = 0.5;
@@ -34,7 +34,7 @@ struct ControllerGains {
   double kp_V_per_mm = 60.0;
   double ki_V_per_mm_s = 300.0;
   double max_volts = 12.0;
-  double velocity_filter_s = 0.01;   // low-pass of the velocity estimate
+  double velocity_filter_s = 0.01;  // low-pass of the velocity estimate
 };
 
 struct IopSettings {
@@ -46,8 +46,8 @@ struct IopSettings {
   double settle_timeout_s = 20.0;
   double min_mmHg = 5.0;
   double max_mmHg = 40.0;
-  double fault_band_mmHg = 5.0;        // during a cut ...
-  double fault_after_ms = 100.0;       // ... for this long [ms] (a pump step is not a leak)
+  double fault_band_mmHg = 5.0;   // during a cut ...
+  double fault_after_ms = 100.0;  // ... for this long [ms] (a pump step is not a leak)
 };
 
 struct SafetySettings {
@@ -64,7 +64,7 @@ struct SafetySettings {
   int overrun_storm_missed_cycles = 500;   // deadlines missed [periods] ...
   int overrun_storm_window_cycles = 1000;  // ... within this many deadlines [periods] = storm
   double max_following_error_mm = 1.0;
-  int stuck_force_cycles = 50;         // identical force readings while cutting tissue
+  int stuck_force_cycles = 50;  // identical force readings while cutting tissue
   // Output writes lost or garbled in a row (reads answered) before the run faults; an explicit
   // refusal counts as all of them. Keep it below daq.watchdog_ms in cycles.
   int max_failed_writes = 3;

@@ -12,7 +12,9 @@ bool is_one_of(RunState state, std::initializer_list<RunState> states) {
   return false;
 }
 
-MotionRequest off() { return MotionRequest{}; }
+MotionRequest off() {
+  return MotionRequest{};
+}
 
 MotionRequest velocity(double velocity_mm_s) {
   MotionRequest m;
@@ -77,20 +79,34 @@ CommandResult RunStateMachine::handle(const Command& command, const CycleInput& 
                      command.kind == CommandKind::kStart;
   if (moves && in.consecutive_misses >= kLinkDownMisses) {
     result = CommandResult::kLinkDown;
-  } else switch (command.kind) {
-    case CommandKind::kEStop: fault(FaultCode::kEstopCommand, 0.0, in); result = CommandResult::kAccepted; break;
-    case CommandKind::kReset: result = reset(in); break;
-    case CommandKind::kStop: result = stop(in); break;
-    case CommandKind::kHome: result = start_homing(in); break;
-    case CommandKind::kTare: result = start_tare(); break;
-    case CommandKind::kArm: result = arm(command, in); break;
-    case CommandKind::kStart:
-      if (state_ == RunState::kArmed) {
-        start_requested_ = true;
+  } else
+    switch (command.kind) {
+      case CommandKind::kEStop:
+        fault(FaultCode::kEstopCommand, 0.0, in);
         result = CommandResult::kAccepted;
-      }
-      break;
-  }
+        break;
+      case CommandKind::kReset:
+        result = reset(in);
+        break;
+      case CommandKind::kStop:
+        result = stop(in);
+        break;
+      case CommandKind::kHome:
+        result = start_homing(in);
+        break;
+      case CommandKind::kTare:
+        result = start_tare();
+        break;
+      case CommandKind::kArm:
+        result = arm(command, in);
+        break;
+      case CommandKind::kStart:
+        if (state_ == RunState::kArmed) {
+          start_requested_ = true;
+          result = CommandResult::kAccepted;
+        }
+        break;
+    }
   Event event;
   event.kind = EventKind::kCommand;
   event.run_id = run_open_ ? params_.run_id : command.params.run_id;
@@ -105,7 +121,8 @@ CommandResult RunStateMachine::handle(const Command& command, const CycleInput& 
 CommandResult RunStateMachine::start_homing(const CycleInput& in) noexcept {
   if (state_ == RunState::kFault) return CommandResult::kFaulted;
   if (state_ == RunState::kEStop) return CommandResult::kEstopLatched;
-  if (!is_one_of(state_, {RunState::kIdle, RunState::kReady, RunState::kDone})) return CommandResult::kBusy;
+  if (!is_one_of(state_, {RunState::kIdle, RunState::kReady, RunState::kDone}))
+    return CommandResult::kBusy;
   homed_ = false;
   home_switch_found_ = false;
   homing_start_mm_ = in.raw_position_mm;
@@ -144,10 +161,11 @@ CommandResult RunStateMachine::check_arm(const RunParams& p, const CycleInput& i
   if (in.inputs.estop) return CommandResult::kEstopPressed;
   const MotionSettings& m = s_.motion;
   const bool valid = p.iop_mmHg >= s_.iop.min_mmHg && p.iop_mmHg <= s_.iop.max_mmHg &&
-                     p.velocity_mm_s >= m.min_velocity_mm_s && p.velocity_mm_s <= m.max_velocity_mm_s &&
-                     p.depth_mm > 0.0 && p.depth_mm <= m.max_depth_mm &&
-                     m.surface_mm + p.depth_mm < m.soft_max_mm && p.hold_s >= 0.0 && p.hold_s <= 600.0 &&
-                     p.pause_s[0] >= 0.0 && p.pause_s[0] <= 600.0 && p.pause_s[1] >= 0.0 && p.pause_s[1] <= 600.0;
+                     p.velocity_mm_s >= m.min_velocity_mm_s &&
+                     p.velocity_mm_s <= m.max_velocity_mm_s && p.depth_mm > 0.0 &&
+                     p.depth_mm <= m.max_depth_mm && m.surface_mm + p.depth_mm < m.soft_max_mm &&
+                     p.hold_s >= 0.0 && p.hold_s <= 600.0 && p.pause_s[0] >= 0.0 &&
+                     p.pause_s[0] <= 600.0 && p.pause_s[1] >= 0.0 && p.pause_s[1] <= 600.0;
   if (!valid) return CommandResult::kInvalidParameters;
   if (std::abs(in.position_mm - m.park_mm) > m.park_tolerance_mm) return CommandResult::kNotAtPark;
   return CommandResult::kAccepted;
@@ -213,11 +231,21 @@ MotionRequest RunStateMachine::step(const CycleInput& in, bool arrived) noexcept
   accumulate_tare(in);
   MotionRequest motion;
   switch (state_) {
-    case RunState::kHoming: motion = step_homing(in, arrived); break;
-    case RunState::kArmed: motion = step_armed(in); break;
-    case RunState::kCutting: motion = step_cutting(in); break;
-    case RunState::kRetracting: motion = step_retracting(in, arrived); break;
-    default: motion = off(); break;
+    case RunState::kHoming:
+      motion = step_homing(in, arrived);
+      break;
+    case RunState::kArmed:
+      motion = step_armed(in);
+      break;
+    case RunState::kCutting:
+      motion = step_cutting(in);
+      break;
+    case RunState::kRetracting:
+      motion = step_retracting(in, arrived);
+      break;
+    default:
+      motion = off();
+      break;
   }
   motion.reset_reference = motion.reset_reference || reference_reset_pending_;
   reference_reset_pending_ = false;

@@ -72,7 +72,7 @@ class RunStateMachine {
   double home_offset_mm_ = 0.0;
   double homing_start_mm_ = 0.0;
   double hold_elapsed_s_ = 0.0;
-  int pauses_done_ = 0;             // stops on the way in already held
+  int pauses_done_ = 0;  // stops on the way in already held
   double pause_elapsed_s_ = 0.0;
 };
 

@@ -15,7 +15,8 @@ class SpscRing {
 
  public:
   // capacity must be a power of two (index masking instead of division).
-  explicit SpscRing(std::size_t capacity) : capacity_(capacity), mask_(capacity - 1), slots_(new T[capacity]) {
+  explicit SpscRing(std::size_t capacity)
+      : capacity_(capacity), mask_(capacity - 1), slots_(new T[capacity]) {
     if (capacity < 2 || (capacity & (capacity - 1)) != 0) {
       throw std::invalid_argument("SpscRing capacity must be a power of two >= 2");
     }

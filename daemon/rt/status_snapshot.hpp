@@ -33,7 +33,7 @@ struct StatusSnapshot {
   bool home_limit = false;
   bool end_limit = false;
   bool estop_input = false;
-  std::int64_t run_id = 0;         // run being recorded, 0 if none
+  std::int64_t run_id = 0;  // run being recorded, 0 if none
   RunParams params{};
   double tare_offset_N = 0.0;
   std::uint64_t last_command_id = 0;

@@ -14,8 +14,8 @@ void VelocityController::reset(double position_mm) noexcept {
 double VelocityController::control(double velocity_mm_s, double measured_mm, double dt_s) noexcept {
   measured_mm_ = measured_mm;
   const double error_mm = reference_mm_ - measured_mm;
-  const double unsaturated = gains_.feedforward_V_per_mm_s * velocity_mm_s +
-                             gains_.kp_V_per_mm * error_mm + integral_V_;
+  const double unsaturated =
+      gains_.feedforward_V_per_mm_s * velocity_mm_s + gains_.kp_V_per_mm * error_mm + integral_V_;
   const double volts = std::clamp(unsaturated, -gains_.max_volts, gains_.max_volts);
   // Anti-windup: integrate only while the output is not pushed further into saturation.
   if (volts == unsaturated || (unsaturated > volts) != (error_mm > 0.0)) {

@@ -1,8 +1,8 @@
 #include "camera_service.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 #include <turbojpeg.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <memory>
@@ -18,11 +18,13 @@ struct TjDeleter {
 
 }  // namespace
 
-std::vector<std::uint8_t> encode_jpeg_gray(const std::uint8_t* pixels, int width, int height, int quality) {
+std::vector<std::uint8_t> encode_jpeg_gray(const std::uint8_t* pixels, int width, int height,
+                                           int quality) {
   const std::unique_ptr<void, TjDeleter> handle(tjInitCompress());
   unsigned char* jpeg = nullptr;
   unsigned long size = 0;
-  if (!handle || tjCompress2(handle.get(), pixels, width, width, height, TJPF_GRAY, &jpeg, &size, TJSAMP_GRAY, quality, TJFLAG_FASTDCT) != 0) {
+  if (!handle || tjCompress2(handle.get(), pixels, width, width, height, TJPF_GRAY, &jpeg, &size,
+                             TJSAMP_GRAY, quality, TJFLAG_FASTDCT) != 0) {
     if (jpeg != nullptr) tjFree(jpeg);
     return {};
   }
@@ -36,9 +38,10 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::uint32_t n = (static_cast<std::uint32_t>(bytes[i]) << 16U) |
-                            (i + 1 < bytes.size() ? static_cast<std::uint32_t>(bytes[i + 1]) << 8U : 0U) |
-                            (i + 2 < bytes.size() ? bytes[i + 2] : 0U);
+    const std::uint32_t n =
+        (static_cast<std::uint32_t>(bytes[i]) << 16U) |
+        (i + 1 < bytes.size() ? static_cast<std::uint32_t>(bytes[i + 1]) << 8U : 0U) |
+        (i + 2 < bytes.size() ? bytes[i + 2] : 0U);
     out += kAlphabet[(n >> 18U) & 63U];
     out += kAlphabet[(n >> 12U) & 63U];
     out += i + 1 < bytes.size() ? kAlphabet[(n >> 6U) & 63U] : '=';
@@ -47,15 +50,21 @@ std::string base64(const std::vector<std::uint8_t>& bytes) {
   return out;
 }
 
-CameraService::CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels, int max_hz,
-                             std::unique_ptr<FrameRecorder> recorder, int lost_after_ms)
-    : camera_(std::move(camera)), recorder_(std::move(recorder)), channels_(&channels), max_hz_(max_hz),
+CameraService::CameraService(std::unique_ptr<drivers::Camera> camera, rt::LoopChannels& channels,
+                             int max_hz, std::unique_ptr<FrameRecorder> recorder, int lost_after_ms)
+    : camera_(std::move(camera)),
+      recorder_(std::move(recorder)),
+      channels_(&channels),
+      max_hz_(max_hz),
       lost_after_ms_(lost_after_ms) {}
 
-CameraService::~CameraService() { stop(); }
+CameraService::~CameraService() {
+  stop();
+}
 
 void CameraService::start() {
-  if (camera_->start() != drivers::IoStatus::kOk) spdlog::warn("camera: {} did not start", camera_->describe());
+  if (camera_->start() != drivers::IoStatus::kOk)
+    spdlog::warn("camera: {} did not start", camera_->describe());
   thread_ = std::thread([this] { run(); });
 }
 
@@ -99,7 +108,8 @@ void CameraService::watch_for_loss(bool frame_arrived, const rt::StatusSnapshot&
   if (now - last_frame_ < std::chrono::milliseconds(lost_after_ms_)) return;
   rt::FaultCode none = rt::FaultCode::kNone;
   if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kCameraLost))
-    spdlog::critical("camera: {} sent no frame for {} ms during run {}: faulting the run", camera_->describe(), lost_after_ms_, st.run_id);
+    spdlog::critical("camera: {} sent no frame for {} ms during run {}: faulting the run",
+                     camera_->describe(), lost_after_ms_, st.run_id);
 }
 
 void CameraService::stream(const drivers::FrameView& frame, const rt::StatusSnapshot& st) {
@@ -110,7 +120,8 @@ void CameraService::stream(const drivers::FrameView& frame, const rt::StatusSnap
   message.sample_cycle = static_cast<std::int64_t>(st.cycle);
   message.width = frame.width;
   message.height = frame.height;
-  message.jpeg_base64 = base64(encode_jpeg_gray(frame.pixels.data(), frame.width, frame.height, 70));
+  message.jpeg_base64 =
+      base64(encode_jpeg_gray(frame.pixels.data(), frame.width, frame.height, 70));
   auto json = std::make_shared<const std::string>(nlohmann::json(message).dump());
   for (StreamSink* sink : sinks_) sink->publish(json);
   sent_.fetch_add(1);

@@ -8,8 +8,8 @@
 #include <thread>
 #include <vector>
 
-#include "loop_channels.hpp"
 #include "frame_recorder.hpp"
+#include "loop_channels.hpp"
 #include "rig/drivers/camera.hpp"
 #include "stream_sink.hpp"
 
@@ -43,7 +43,8 @@ class CameraService {
 };
 
 // JPEG of an 8-bit grey image (libturbojpeg), quality 0..100.
-std::vector<std::uint8_t> encode_jpeg_gray(const std::uint8_t* pixels, int width, int height, int quality);
+std::vector<std::uint8_t> encode_jpeg_gray(const std::uint8_t* pixels, int width, int height,
+                                           int quality);
 std::string base64(const std::vector<std::uint8_t>& bytes);
 
 }  // namespace rig::service

@@ -4,7 +4,8 @@
 
 namespace rig::service {
 
-CommitCadence::Clock::time_point CommitCadence::after_commit(Clock::time_point due, Clock::time_point began,
+CommitCadence::Clock::time_point CommitCadence::after_commit(Clock::time_point due,
+                                                             Clock::time_point began,
                                                              Clock::time_point ended) {
   const Clock::duration late = std::max(Clock::duration::zero(), began - due);
   costs_[next_] = (ended - began) + late;
@@ -24,6 +25,8 @@ CommitCadence::Clock::time_point CommitCadence::after_empty_check(Clock::time_po
   return began + interval_ - drain_period_ - std::min(recent_cost(), interval_ / 2);
 }
 
-CommitCadence::Clock::duration CommitCadence::recent_cost() const { return *std::max_element(costs_.begin(), costs_.end()); }
+CommitCadence::Clock::duration CommitCadence::recent_cost() const {
+  return *std::max_element(costs_.begin(), costs_.end());
+}
 
 }  // namespace rig::service

@@ -34,7 +34,8 @@ class CommitCadence {
 
   // A commit that was due at `due`, began at `began` and ended at `ended`; returns when the
   // next one is due: never before `ended`.
-  Clock::time_point after_commit(Clock::time_point due, Clock::time_point began, Clock::time_point ended);
+  Clock::time_point after_commit(Clock::time_point due, Clock::time_point began,
+                                 Clock::time_point ended);
   // A commit became durable `cost` after it was due (lateness + write + sync): remembered
   // for the margin like a commit's own cost.
   void note_durable(Clock::duration cost);

@@ -10,11 +10,14 @@
 
 namespace rig::service {
 namespace {
-std::int64_t row_time_ns(const drivers::FrameView& frame) { return static_cast<std::int64_t>(frame.host_timestamp_ns); }
+std::int64_t row_time_ns(const drivers::FrameView& frame) {
+  return static_cast<std::int64_t>(frame.host_timestamp_ns);
+}
 }  // namespace
 
 FrameRecorder::FrameRecorder(IndexSink index_sink, std::string frames_dir, double loop_rate_hz)
-    : index_sink_(std::move(index_sink)), frames_dir_(std::move(frames_dir)),
+    : index_sink_(std::move(index_sink)),
+      frames_dir_(std::move(frames_dir)),
       period_ns_(static_cast<std::int64_t>(std::llround(1e9 / loop_rate_hz))) {
   std::filesystem::create_directories(frames_dir_);
 }
@@ -25,7 +28,8 @@ void FrameRecorder::open_run(std::int64_t run_id) {
   frame_no_ = 0;
   failed_ = false;
   try {
-    file_ = std::make_unique<archive::FrameFile>(frames_dir_ + "/run-" + std::to_string(run_id) + ".frames");
+    file_ = std::make_unique<archive::FrameFile>(frames_dir_ + "/run-" + std::to_string(run_id) +
+                                                 ".frames");
   } catch (const std::exception& e) {
     failed_ = true;
     spdlog::error("camera: run {}: frames not recorded: {}", run_id, e.what());
@@ -53,7 +57,8 @@ void FrameRecorder::finish_run() {
 // simulated one) are on the loop's time line already; others (GigE tick) are mapped with
 // the smallest arrival - camera time seen so far. The loop's snapshot says which cycle ran
 // at which loop time; its host time is estimated by the smallest (now - loop time) seen.
-std::int64_t FrameRecorder::sample_of(const drivers::FrameView& frame, const rt::StatusSnapshot& status) {
+std::int64_t FrameRecorder::sample_of(const drivers::FrameView& frame,
+                                      const rt::StatusSnapshot& status) {
   const auto arrival = static_cast<std::int64_t>(frame.host_timestamp_ns);
   auto exposure = static_cast<std::int64_t>(frame.camera_timestamp_ns);
   constexpr std::int64_t kSameClock_ns = 1'000'000'000;

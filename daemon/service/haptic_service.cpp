@@ -1,7 +1,7 @@
 #include "haptic_service.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdlib>
@@ -12,7 +12,8 @@
 
 namespace rig::service {
 
-HapticService::HapticService(const config::RigdConfig& config, rt::LoopChannels& channels, StreamSink& sink)
+HapticService::HapticService(const config::RigdConfig& config, rt::LoopChannels& channels,
+                             StreamSink& sink)
     : config_(config), channels_(channels), sink_(sink) {
   status_.state = "idle";
 }
@@ -36,13 +37,16 @@ std::unique_ptr<haptic::Playback> HapticService::set_up(const proto::HapticReque
   o.mesh_n = static_cast<int>(request.mesh_n.value_or(13));
   o.max_s = request.max_s.value_or(120.0);
   if (const char* library = std::getenv("RIG_LIBHD")) o.library = library;
-  const bool own_model = o.source.kind == haptic::SourceSpec::Kind::kModel && !o.source.argument.empty();
-  const model::ForceModel reference = model::ForceModel::load(own_model ? o.source.argument : config_.model.file);
+  const bool own_model =
+      o.source.kind == haptic::SourceSpec::Kind::kModel && !o.source.argument.empty();
+  const model::ForceModel reference =
+      model::ForceModel::load(own_model ? o.source.argument : config_.model.file);
   std::optional<model::RunData> run;
   if (o.source.kind == haptic::SourceSpec::Kind::kRun) {
     std::size_t used = 0;
     const long long id = std::stoll(o.source.argument, &used);
-    if (used != o.source.argument.size()) throw std::invalid_argument("source run:ID: '" + o.source.argument + "' is not a run id");
+    if (used != o.source.argument.size())
+      throw std::invalid_argument("source run:ID: '" + o.source.argument + "' is not a run id");
     archive::Archive archive(config_.archive.path, true);
     run = archive.load_run(id);
   }
@@ -92,7 +96,8 @@ void HapticService::feed_live(haptic::Playback& playback, const std::atomic<bool
   while (!done.load()) {
     const rt::StatusSnapshot st = channels_.status.read();
     playback.live_source()->update(st.force_N);
-    if (playback.following_hand() != nullptr) playback.following_hand()->set_depth(st.position_mm - surface);
+    if (playback.following_hand() != nullptr)
+      playback.following_hand()->set_depth(st.position_mm - surface);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
 }
@@ -121,7 +126,8 @@ void HapticService::run(std::shared_ptr<haptic::Playback> playback) {
   haptic::PlaybackResult result;
   std::string error;
   try {
-    result = playback->run([this](const haptic::MeshSnapshot& mesh) { publish_mesh(mesh); }, &cancel_);
+    result =
+        playback->run([this](const haptic::MeshSnapshot& mesh) { publish_mesh(mesh); }, &cancel_);
   } catch (const std::exception& e) {
     error = e.what();
   }
@@ -137,13 +143,17 @@ void HapticService::run(std::shared_ptr<haptic::Playback> playback) {
     status_.ticks = static_cast<std::int64_t>(r.ticks);
     status_.overruns = static_cast<std::int64_t>(r.overruns + r.late_ticks);
     status_.tick_p99_us = r.tick_p99_us;
-    if (result.vs_model) status_.rmse_vs_model_N = result.vs_model->rmse_N, status_.max_vs_model_N = result.vs_model->max_N;
-    if (result.vs_run) status_.rmse_vs_run_N = result.vs_run->rmse_N, status_.max_vs_run_N = result.vs_run->max_N;
+    if (result.vs_model)
+      status_.rmse_vs_model_N = result.vs_model->rmse_N,
+      status_.max_vs_model_N = result.vs_model->max_N;
+    if (result.vs_run)
+      status_.rmse_vs_run_N = result.vs_run->rmse_N, status_.max_vs_run_N = result.vs_run->max_N;
     status_.mesh_vertices = r.mesh_vertices;
     status_.mesh_springs = r.mesh_springs;
     status_.watchdog_tripped = r.watchdog_tripped;
   }
-  spdlog::info("haptic: session {} ({} ticks at {:.1f} Hz)", error.empty() ? "done" : "failed: " + error, result.report.ticks,
+  spdlog::info("haptic: session {} ({} ticks at {:.1f} Hz)",
+               error.empty() ? "done" : "failed: " + error, result.report.ticks,
                result.report.rate_hz);
   running_.store(false);
 }

@@ -1,7 +1,7 @@
 #include "lab_worker.hpp"
 
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include "archive.hpp"
 #include "comparison.hpp"
@@ -16,7 +16,9 @@ namespace {
 
 constexpr std::size_t kMaxQueuedJobs = 8;
 
-std::string error_json(const std::string& what) { return nlohmann::json{{"error", what}}.dump(); }
+std::string error_json(const std::string& what) {
+  return nlohmann::json{{"error", what}}.dump();
+}
 
 }  // namespace
 
@@ -41,7 +43,8 @@ void LabWorker::submit(const std::string& action, const proto::LabRequest& reque
       return;
     }
   }
-  done(503, error_json("the model lab is busy: " + std::to_string(kMaxQueuedJobs) + " requests queued"));
+  done(503,
+       error_json("the model lab is busy: " + std::to_string(kMaxQueuedJobs) + " requests queued"));
 }
 
 void LabWorker::run() {
@@ -60,13 +63,17 @@ void LabWorker::run() {
 
 void LabWorker::execute(const Job& job) {
   try {
-    if (job.request.runs.empty()) return job.done(400, error_json("field 'runs': pick at least one run"));
+    if (job.request.runs.empty())
+      return job.done(400, error_json("field 'runs': pick at least one run"));
     archive::Archive archive(archive_path_, true);
     std::vector<model::RunData> runs;
     for (const std::int64_t id : job.request.runs) runs.push_back(archive.load_run(id));
-    model::ForceModel model = job.request.model ? model::ForceModel::load(*job.request.model)
-                                                : (hub_->model() ? *hub_->model() : model::ForceModel::paper_interpreted());
-    const std::vector<std::string> effects = job.request.effects.value_or(std::vector<std::string>{});
+    model::ForceModel model =
+        job.request.model
+            ? model::ForceModel::load(*job.request.model)
+            : (hub_->model() ? *hub_->model() : model::ForceModel::paper_interpreted());
+    const std::vector<std::string> effects =
+        job.request.effects.value_or(std::vector<std::string>{});
     nlohmann::json out;
     // "series": the same plots as the CLI's --report (residual against depth by direction,
     // in the hold, per-run small multiples; before/after for fit).
@@ -80,14 +87,16 @@ void LabWorker::execute(const Job& job) {
       options.with = effects;
       model::Diagnosis diagnosis = model::diagnose(model, runs, options);
       const model::LabViews views = model::diagnose_views(model, runs);
-      for (auto& w : model::base_misfit_warnings(model, views.before)) diagnosis.warnings.push_back(std::move(w));
+      for (auto& w : model::base_misfit_warnings(model, views.before))
+        diagnosis.warnings.push_back(std::move(w));
       out = model::to_json(diagnosis);
       out["series"] = model::views_series(runs, views);
     } else {
       model::require_fittable(model, "fit");
       model::FitReport fit = model::fit_model(model, runs, effects);
       const model::LabViews views = model::fit_views(model, fit.fitted, runs);
-      for (auto& w : model::base_misfit_warnings(model, views.before)) fit.warnings.push_back(std::move(w));
+      for (auto& w : model::base_misfit_warnings(model, views.before))
+        fit.warnings.push_back(std::move(w));
       out = model::to_json(fit);
       out["series"] = model::views_series(runs, views);
     }

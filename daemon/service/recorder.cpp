@@ -24,14 +24,24 @@ void raise_to(std::atomic<std::int64_t>& max, std::int64_t value) {
 std::string describe_fault(rt::FaultCode code, double value) {
   char detail[64] = "";
   switch (code) {
-    case rt::FaultCode::kForceLimit: std::snprintf(detail, sizeof detail, ": %.3f N", value); break;
+    case rt::FaultCode::kForceLimit:
+      std::snprintf(detail, sizeof detail, ": %.3f N", value);
+      break;
     case rt::FaultCode::kSoftLimit:
     case rt::FaultCode::kEndLimit:
-    case rt::FaultCode::kHomeLimit: std::snprintf(detail, sizeof detail, " at %.2f mm", value); break;
-    case rt::FaultCode::kFollowingError: std::snprintf(detail, sizeof detail, ": %.3f mm behind", value); break;
-    case rt::FaultCode::kLinkLost: std::snprintf(detail, sizeof detail, ": no valid reply for %.0f ms", value); break;
+    case rt::FaultCode::kHomeLimit:
+      std::snprintf(detail, sizeof detail, " at %.2f mm", value);
+      break;
+    case rt::FaultCode::kFollowingError:
+      std::snprintf(detail, sizeof detail, ": %.3f mm behind", value);
+      break;
+    case rt::FaultCode::kLinkLost:
+      std::snprintf(detail, sizeof detail, ": no valid reply for %.0f ms", value);
+      break;
     case rt::FaultCode::kIopNotSettled:
-    case rt::FaultCode::kIopOutOfRange: std::snprintf(detail, sizeof detail, ": %.2f mmHg", value); break;
+    case rt::FaultCode::kIopOutOfRange:
+      std::snprintf(detail, sizeof detail, ": %.2f mmHg", value);
+      break;
     case rt::FaultCode::kHomingFailed:
       std::snprintf(detail, sizeof detail, ": no home switch within %.1f mm of travel", value);
       break;
@@ -42,15 +52,20 @@ std::string describe_fault(rt::FaultCode code, double value) {
         std::snprintf(detail, sizeof detail, ": outputs refused by the DAQ");
       }
       break;
-    case rt::FaultCode::kDaqWatchdogTripped: std::snprintf(detail, sizeof detail, ": outputs were forced off"); break;
-    case rt::FaultCode::kDaqRestarted: std::snprintf(detail, sizeof detail, ": conversion counter restarted, outputs reset"); break;
-    default: break;
+    case rt::FaultCode::kDaqWatchdogTripped:
+      std::snprintf(detail, sizeof detail, ": outputs were forced off");
+      break;
+    case rt::FaultCode::kDaqRestarted:
+      std::snprintf(detail, sizeof detail, ": conversion counter restarted, outputs reset");
+      break;
+    default:
+      break;
   }
   return std::string(rt::to_string(code)) + detail;
 }
 
-Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, int flush_interval_ms,
-                   WalSyncer::SyncFunction sync)
+Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path,
+                   int flush_interval_ms, WalSyncer::SyncFunction sync)
     : channels_(&channels),
       archive_(std::make_unique<archive::Archive>(archive_path)),
       flush_interval_ms_(flush_interval_ms),
@@ -59,13 +74,21 @@ Recorder::Recorder(rt::LoopChannels& channels, const std::string& archive_path, 
   archive_->defer_log_syncs();  // the syncer makes each commit durable (wal_syncer.hpp)
   syncer_ = std::make_unique<WalSyncer>(archive_path + "-wal", std::move(sync));
   const int interrupted = archive_->recover_interrupted();
-  if (interrupted > 0) spdlog::warn("archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept", interrupted);
+  if (interrupted > 0)
+    spdlog::warn(
+        "archive: {} run(s) were interrupted by the last stop of rigd; their samples are kept",
+        interrupted);
   for (const std::string& source : archive_->remove_abandoned_imports()) {
-    spdlog::warn("archive: removed a half-imported run of {} (its rig import was stopped before the end); import the file again", source);
+    spdlog::warn(
+        "archive: removed a half-imported run of {} (its rig import was stopped before the end); "
+        "import the file again",
+        source);
   }
 }
 
-Recorder::~Recorder() { stop(); }
+Recorder::~Recorder() {
+  stop();
+}
 
 // The syncer at the recorder's priority: a commit is durable only once it has synced.
 std::string Recorder::start(int priority) {
@@ -76,10 +99,12 @@ std::string Recorder::start(int priority) {
   param.sched_priority = priority;
   const int rc = pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);
   if (rc == 0 && syncer_refused.empty()) return {};
-  const std::string refused = rc != 0 ? "SCHED_FIFO priority " + std::to_string(priority) + " for the recorder refused (" +
-                                            std::strerror(rc) + ")"
+  const std::string refused = rc != 0 ? "SCHED_FIFO priority " + std::to_string(priority) +
+                                            " for the recorder refused (" + std::strerror(rc) + ")"
                                       : syncer_refused;
-  return refused + ": its commits may come late on a busy machine, and a power cut then loses more than one flush interval";
+  return refused +
+         ": its commits may come late on a busy machine, and a power cut then loses more than one "
+         "flush interval";
 }
 
 void Recorder::stop() {
@@ -92,7 +117,8 @@ void Recorder::stop() {
 
 void Recorder::add_frames(std::vector<archive::FrameRow> rows) {
   const std::lock_guard lock(frames_mutex_);
-  pending_frames_.insert(pending_frames_.end(), std::make_move_iterator(rows.begin()), std::make_move_iterator(rows.end()));
+  pending_frames_.insert(pending_frames_.end(), std::make_move_iterator(rows.begin()),
+                         std::make_move_iterator(rows.end()));
 }
 
 void Recorder::flush() {
@@ -116,11 +142,13 @@ void Recorder::commit_when_due(Clock::time_point& next_commit) {
   if (had_data) {
     const Clock::duration late = std::max(Clock::duration::zero(), began - next_commit);
     syncer_->commit_written({began, late, previous_commit_began_});
-    raise_to(stats_.max_late_us, std::chrono::duration_cast<std::chrono::microseconds>(late).count());
+    raise_to(stats_.max_late_us,
+             std::chrono::duration_cast<std::chrono::microseconds>(late).count());
     previous_commit_began_ = began;
     next_commit = cadence_.after_commit(next_commit, began, ended);
   } else {
-    previous_commit_began_ = began;  // nothing was pending then: later samples are exposed from here
+    previous_commit_began_ =
+        began;  // nothing was pending then: later samples are exposed from here
     next_commit = cadence_.after_empty_check(began);
   }
 }
@@ -134,7 +162,8 @@ void Recorder::tally_synced() {
   for (const WalSyncer::Synced& s : syncer_->take_synced()) {
     if (!s.error.empty()) {
       rt::FaultCode none = rt::FaultCode::kNone;
-      if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kArchiveWriteFailed))
+      if (channels_->service_fault.compare_exchange_strong(none,
+                                                           rt::FaultCode::kArchiveWriteFailed))
         spdlog::critical("recorder: {}, faulting the run", s.error);
       continue;
     }
@@ -155,14 +184,16 @@ void Recorder::tally_synced() {
 // Until 2026-11-28 SQLite copied the log into the database inside whichever commit took it
 // past 1000 pages, and a cut's commit could take hundreds of ms (the power-cut test's stalls).
 void Recorder::checkpoint_when_idle() {
-  constexpr auto kQuietFor = std::chrono::seconds(1);     // no sample for this long: between runs
-  constexpr auto kRetryAfter = std::chrono::seconds(1);   // a reader kept part of the log: try again
+  constexpr auto kQuietFor = std::chrono::seconds(1);    // no sample for this long: between runs
+  constexpr auto kRetryAfter = std::chrono::seconds(1);  // a reader kept part of the log: try again
   const Clock::time_point now = Clock::now();
-  if (!log_to_checkpoint_ || dirty_ || open_run_ != 0 || armed_run_ != 0 || !syncer_->idle()) return;
+  if (!log_to_checkpoint_ || dirty_ || open_run_ != 0 || armed_run_ != 0 || !syncer_->idle())
+    return;
   if (now - last_sample_ < kQuietFor || now - last_checkpoint_try_ < kRetryAfter) return;
   last_checkpoint_try_ = now;
   const int left = archive_->checkpoint();
-  const std::int64_t took_us = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - now).count();
+  const std::int64_t took_us =
+      std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - now).count();
   stats_.checkpoints.fetch_add(1);
   raise_to(stats_.max_checkpoint_us, took_us);
   log_to_checkpoint_ = left > 0;
@@ -180,7 +211,8 @@ void Recorder::run() {
       // Disk full or I/O error: the loop faults a moving rig at its next cycle; what was
       // committed stays, the failed transaction (< one flush interval) is lost.
       rt::FaultCode none = rt::FaultCode::kNone;
-      if (channels_->service_fault.compare_exchange_strong(none, rt::FaultCode::kArchiveWriteFailed))
+      if (channels_->service_fault.compare_exchange_strong(none,
+                                                           rt::FaultCode::kArchiveWriteFailed))
         spdlog::critical("recorder: archive write failed, faulting the run: {}", e.what());
       archive_->rollback();
       dirty_ = false;
@@ -239,8 +271,12 @@ void Recorder::handle(const rt::Event& e) {
   using rt::EventKind;
   switch (e.kind) {
     case EventKind::kCommand:
-      if (e.command == rt::CommandKind::kArm && e.result == rt::CommandResult::kAccepted) armed_run_ = e.run_id;
-      if (e.run_id != 0) archive_->add_event(e.run_id, e.t_s, "command", std::string(rt::to_string(e.command)) + ": " + std::string(rt::to_string(e.result)));
+      if (e.command == rt::CommandKind::kArm && e.result == rt::CommandResult::kAccepted)
+        armed_run_ = e.run_id;
+      if (e.run_id != 0)
+        archive_->add_event(
+            e.run_id, e.t_s, "command",
+            std::string(rt::to_string(e.command)) + ": " + std::string(rt::to_string(e.result)));
       break;
     case EventKind::kRunStarted:
       open_run_ = e.run_id;
@@ -254,7 +290,8 @@ void Recorder::handle(const rt::Event& e) {
       append_waiting_samples();
       const bool faulted = e.fault != rt::FaultCode::kNone;
       const std::string outcome = faulted ? "fault" : (e.value > 0.5 ? "stopped" : "completed");
-      const std::string reason = faulted ? last_fault_ : (e.value > 0.5 ? "stopped by the operator" : "");
+      const std::string reason =
+          faulted ? last_fault_ : (e.value > 0.5 ? "stopped by the operator" : "");
       archive_->finish_run(e.run_id, outcome, reason);
       archive_->add_event(e.run_id, e.t_s, "run_ended", outcome);
       open_run_ = 0;
@@ -262,16 +299,21 @@ void Recorder::handle(const rt::Event& e) {
     }
     case EventKind::kFault:
       last_fault_ = describe_fault(e.fault, e.value);
-      if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_) archive_->add_event(id, e.t_s, "fault", describe_fault(e.fault, e.value));
+      if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_)
+        archive_->add_event(id, e.t_s, "fault", describe_fault(e.fault, e.value));
       spdlog::error("fault: {}", describe_fault(e.fault, e.value));
       break;
     case EventKind::kStateChanged:
       if (e.from == rt::RunState::kArmed && e.to != rt::RunState::kCutting && armed_run_ != 0) {
-        archive_->finish_run(armed_run_, "cancelled", "left Armed for " + std::string(rt::to_string(e.to)) + " before cutting");
+        archive_->finish_run(
+            armed_run_, "cancelled",
+            "left Armed for " + std::string(rt::to_string(e.to)) + " before cutting");
         armed_run_ = 0;
       }
       if (const std::int64_t id = open_run_ != 0 ? open_run_ : armed_run_) {
-        archive_->add_event(id, e.t_s, "state", std::string(rt::to_string(e.from)) + " -> " + std::string(rt::to_string(e.to)));
+        archive_->add_event(
+            id, e.t_s, "state",
+            std::string(rt::to_string(e.from)) + " -> " + std::string(rt::to_string(e.to)));
       }
       spdlog::info("state {} -> {}", rt::to_string(e.from), rt::to_string(e.to));
       break;

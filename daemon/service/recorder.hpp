@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <vector>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "archive.hpp"
 #include "commit_cadence.hpp"
@@ -66,8 +66,9 @@ class Recorder {
   std::int64_t armed_run_ = 0;
   std::int64_t open_run_ = 0;
   bool dirty_ = false;
-  bool log_to_checkpoint_ = true;       // commits since the last checkpoint (or a log left by the last boot)
-  Clock::time_point last_sample_{};     // when the last sample was drained
+  bool log_to_checkpoint_ =
+      true;  // commits since the last checkpoint (or a log left by the last boot)
+  Clock::time_point last_sample_{};  // when the last sample was drained
   Clock::time_point last_checkpoint_try_{};
   Clock::time_point previous_commit_began_{};  // for the exposure; epoch: none yet
   std::string last_fault_;

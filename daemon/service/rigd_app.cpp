@@ -7,29 +7,31 @@
 #include <filesystem>
 
 #include "api_server.hpp"
-#include "camera_service.hpp"
-#include "haptic_service.hpp"
-#include "model_lint.hpp"
-#include "lab_worker.hpp"
-#include "lab_replicator.hpp"
 #include "camera/aravis_camera.hpp"
 #include "camera/v4l2_camera.hpp"
-#include "gpio/gpio_digital_io.hpp"
-#include "usb/usb_daq.hpp"
-#include "sim_camera.hpp"
-#include "control_loop.hpp"
-#include "force_model.hpp"
-#include "modbus/modbus_daq.hpp"
+#include "camera_service.hpp"
 #include "clock/cpu_wake_latency_request.hpp"
 #include "clock/monotonic_clock.hpp"
+#include "control_loop.hpp"
+#include "force_model.hpp"
+#include "gpio/gpio_digital_io.hpp"
+#include "haptic_service.hpp"
+#include "lab_replicator.hpp"
+#include "lab_worker.hpp"
+#include "modbus/modbus_daq.hpp"
+#include "model_lint.hpp"
 #include "recorder.hpp"
 #include "rt_thread.hpp"
+#include "sim_camera.hpp"
 #include "stream_hub.hpp"
 #include "udp_publisher.hpp"
+#include "usb/usb_daq.hpp"
 
 namespace rig::service {
 
-std::string software_version() { return RIGD_VERSION; }
+std::string software_version() {
+  return RIGD_VERSION;
+}
 
 namespace {
 // This machine's name: a page reached as http://<hostname>:8080/ is rigd's own.
@@ -56,20 +58,28 @@ struct RigdApp::Parts {
   std::unique_ptr<CameraService> camera;
   std::unique_ptr<LabWorker> lab;
   std::unique_ptr<HapticService> haptic;
-  std::unique_ptr<lab_archive::LabReplicator> lab_replicator;  // [lab_archive] on: store and forward
+  std::unique_ptr<lab_archive::LabReplicator>
+      lab_replicator;  // [lab_archive] on: store and forward
   api::ApiContext api_context;
   std::unique_ptr<api::ApiServer> api;
   RtThreadReport rt_report;
   std::unique_ptr<drivers::CpuWakeLatencyRequest> wake_latency;
 };
 
-RigdApp::RigdApp(config::RigdConfig config) : config_(std::move(config)), parts_(std::make_unique<Parts>()) {}
+RigdApp::RigdApp(config::RigdConfig config)
+    : config_(std::move(config)), parts_(std::make_unique<Parts>()) {}
 
-RigdApp::~RigdApp() { shutdown(); }
+RigdApp::~RigdApp() {
+  shutdown();
+}
 
-api::ApiContext& RigdApp::api_context() { return parts_->api_context; }
+api::ApiContext& RigdApp::api_context() {
+  return parts_->api_context;
+}
 
-int RigdApp::api_port() const { return parts_->api ? parts_->api->port() : 0; }
+int RigdApp::api_port() const {
+  return parts_->api ? parts_->api->port() : 0;
+}
 
 void RigdApp::start_drivers() {
   if (config_.daq.kind == "usb") {
@@ -88,10 +98,12 @@ void RigdApp::start_drivers() {
     parts_->digital = parts_->daq.get();
     parts_->drive = parts_->daq.get();
     spdlog::info("DAQ: Modbus {} {}", config_.daq.modbus.transport,
-                 config_.daq.modbus.transport == "tcp" ? config_.daq.modbus.host + ":" + std::to_string(config_.daq.modbus.port)
-                                                       : config_.daq.modbus.serial_device);
+                 config_.daq.modbus.transport == "tcp"
+                     ? config_.daq.modbus.host + ":" + std::to_string(config_.daq.modbus.port)
+                     : config_.daq.modbus.serial_device);
   } else {
-    throw std::runtime_error("daq.kind = \"" + config_.daq.kind + "\" is not available in this build");
+    throw std::runtime_error("daq.kind = \"" + config_.daq.kind +
+                             "\" is not available in this build");
   }
   if (config_.gpio.enabled) start_gpio();
 }
@@ -106,10 +118,12 @@ void RigdApp::start_gpio() {
   g.camera_trigger_line = static_cast<unsigned>(config_.gpio.camera_trigger_line);
   g.estop_active_low = config_.gpio.estop_active_low;
   g.debounce_ns = static_cast<std::int64_t>(config_.gpio.debounce_us) * 1000;
-  parts_->gpio = std::make_unique<drivers::GpioDigitalIo>(g, parts_->clock);  // throws naming chip and line
-  parts_->digital = parts_->gpio.get();  // switches, e-stop, enable and trigger on GPIO; analog stays on the DAQ
-  spdlog::info("GPIO: chip {} (home {}, end {}, e-stop {}, enable {}, trigger {})", g.chip, g.home_line, g.end_line,
-               g.estop_line, g.motor_enable_line, g.camera_trigger_line);
+  parts_->gpio =
+      std::make_unique<drivers::GpioDigitalIo>(g, parts_->clock);  // throws naming chip and line
+  parts_->digital =
+      parts_->gpio.get();  // switches, e-stop, enable and trigger on GPIO; analog stays on the DAQ
+  spdlog::info("GPIO: chip {} (home {}, end {}, e-stop {}, enable {}, trigger {})", g.chip,
+               g.home_line, g.end_line, g.estop_line, g.motor_enable_line, g.camera_trigger_line);
 }
 
 void RigdApp::start_loop() {
@@ -120,30 +134,43 @@ void RigdApp::start_loop() {
   parts_->loop = std::make_unique<rt::ControlLoop>(loop_settings, hw, *parts_->channels);
   RtThreadReport memory = lock_process_memory(config_.thread.lock_memory);
   parts_->rt_report = memory;
-  parts_->wake_latency = std::make_unique<drivers::CpuWakeLatencyRequest>(config_.thread.cpu_wake_latency_us);
+  parts_->wake_latency =
+      std::make_unique<drivers::CpuWakeLatencyRequest>(config_.thread.cpu_wake_latency_us);
   if (config_.thread.cpu_wake_latency_us >= 0 && !parts_->wake_latency->held()) {
-    parts_->rt_report.warnings.push_back(parts_->wake_latency->why_not() + ": idle CPUs may wake late for the loop and the DAQ");
+    parts_->rt_report.warnings.push_back(parts_->wake_latency->why_not() +
+                                         ": idle CPUs may wake late for the loop and the DAQ");
   }
   RtThreadOptions options{config_.thread.priority, config_.thread.cpu, config_.thread.lock_memory};
-  rt_thread_ = start_rt_thread(options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
+  rt_thread_ = start_rt_thread(
+      options, [this] { parts_->loop->run(stop_loop_); }, parts_->rt_report);
   for (const auto& warning : parts_->rt_report.warnings) spdlog::warn("RT: {}", warning);
-  spdlog::info("RT loop at {} Hz ({}{}{}{})", config_.loop.rate_hz, parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
-               !parts_->rt_report.memory_locked      ? ""
-               : parts_->rt_report.memory_locked_on_fault ? ", memory locked as touched (sanitizer build)"
-                                                          : ", memory locked",
-               parts_->rt_report.pinned ? ", on CPU " + std::to_string(config_.thread.cpu) : "",
-               parts_->wake_latency->held() ? ", CPU wake-up <= " + std::to_string(config_.thread.cpu_wake_latency_us) + " us" : "");
+  spdlog::info(
+      "RT loop at {} Hz ({}{}{}{})", config_.loop.rate_hz,
+      parts_->rt_report.realtime ? "SCHED_FIFO" : "normal scheduling",
+      !parts_->rt_report.memory_locked           ? ""
+      : parts_->rt_report.memory_locked_on_fault ? ", memory locked as touched (sanitizer build)"
+                                                 : ", memory locked",
+      parts_->rt_report.pinned ? ", on CPU " + std::to_string(config_.thread.cpu) : "",
+      parts_->wake_latency->held()
+          ? ", CPU wake-up <= " + std::to_string(config_.thread.cpu_wake_latency_us) + " us"
+          : "");
 }
 
 void RigdApp::start_services() {
-  std::filesystem::create_directories(std::filesystem::absolute(config_.archive.path).parent_path());
-  parts_->recorder = std::make_unique<Recorder>(*parts_->channels, config_.archive.path, config_.archive.flush_interval_ms);
-  const std::string refused = parts_->recorder->start(parts_->rt_report.realtime ? config_.archive.recorder_priority : 0);
+  std::filesystem::create_directories(
+      std::filesystem::absolute(config_.archive.path).parent_path());
+  parts_->recorder = std::make_unique<Recorder>(*parts_->channels, config_.archive.path,
+                                                config_.archive.flush_interval_ms);
+  const std::string refused =
+      parts_->recorder->start(parts_->rt_report.realtime ? config_.archive.recorder_priority : 0);
   if (!refused.empty()) spdlog::warn("archive: {}", refused);
-  parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm, config_.stream.batch_ms);
+  parts_->hub = std::make_unique<StreamHub>(*parts_->channels, config_.loop.motion.surface_mm,
+                                            config_.stream.batch_ms);
   try {
-    auto overlay = std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file));
-    if (overlay->form == model::ModelForm::kPrinted) spdlog::warn("model: {}", model::printed_form_warning(*overlay));
+    auto overlay =
+        std::make_shared<const model::ForceModel>(model::ForceModel::load(config_.model.file));
+    if (overlay->form == model::ModelForm::kPrinted)
+      spdlog::warn("model: {}", model::printed_form_warning(*overlay));
     parts_->hub->set_model(std::move(overlay));
   } catch (const std::exception& e) {
     spdlog::warn("model: {} (the live overlay shows no model curve)", e.what());
@@ -156,14 +183,19 @@ void RigdApp::start_services() {
   c.realtime = parts_->rt_report.realtime;
   c.version = software_version();
   c.guard = api::RequestGuard(config_.api.allowed_origins, machine_host_name());
-  if (!config_.api.token_file.empty()) c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
+  if (!config_.api.token_file.empty())
+    c.auth = api::ApiAuth(api::load_token(config_.api.token_file));
   drivers::ModbusDaq* daq = parts_->daq.get();
-  if (daq != nullptr) c.extra_metrics = [daq] {
-    const auto n = daq->counters();
-    return "# TYPE rigd_modbus_timeouts_total counter\nrigd_modbus_timeouts_total " + std::to_string(n.timeouts) +
-           "\n# TYPE rigd_modbus_link_errors_total counter\nrigd_modbus_link_errors_total " + std::to_string(n.link_errors) +
-           "\n# TYPE rigd_modbus_bad_data_total counter\nrigd_modbus_bad_data_total " + std::to_string(n.bad_data) + "\n";
-  };
+  if (daq != nullptr)
+    c.extra_metrics = [daq] {
+      const auto n = daq->counters();
+      return "# TYPE rigd_modbus_timeouts_total counter\nrigd_modbus_timeouts_total " +
+             std::to_string(n.timeouts) +
+             "\n# TYPE rigd_modbus_link_errors_total counter\nrigd_modbus_link_errors_total " +
+             std::to_string(n.link_errors) +
+             "\n# TYPE rigd_modbus_bad_data_total counter\nrigd_modbus_bad_data_total " +
+             std::to_string(n.bad_data) + "\n";
+    };
   parts_->lab = std::make_unique<LabWorker>(config_.archive.path, *parts_->hub);
   c.lab = parts_->lab.get();
   parts_->api = std::make_unique<api::ApiServer>(c, config_.api.bind, config_.api.port);
@@ -198,25 +230,32 @@ void RigdApp::start_camera() {
       return drivers::CameraScene{st.position_mm, surface, st.force_N};
     });
   } else if (config_.camera.kind == "v4l2") {
-    camera = std::make_unique<drivers::V4l2Camera>(config_.camera.id.empty() ? "/dev/video0" : config_.camera.id, settings);
+    camera = std::make_unique<drivers::V4l2Camera>(
+        config_.camera.id.empty() ? "/dev/video0" : config_.camera.id, settings);
   } else if (config_.camera.kind == "aravis") {
-    camera = std::make_unique<drivers::AravisCamera>(config_.camera.id, settings);  // throws naming the camera
+    camera = std::make_unique<drivers::AravisCamera>(config_.camera.id,
+                                                     settings);  // throws naming the camera
   } else {
-    throw std::runtime_error("camera.kind = \"" + config_.camera.kind + "\" is not available in this build");
+    throw std::runtime_error("camera.kind = \"" + config_.camera.kind +
+                             "\" is not available in this build");
   }
   std::unique_ptr<FrameRecorder> recorder;
   if (config_.camera.record_frames) {
-    const std::string dir = config_.camera.frames_dir.empty()
-                                ? (std::filesystem::absolute(config_.archive.path).parent_path() / "frames").string()
-                                : config_.camera.frames_dir;
+    const std::string dir =
+        config_.camera.frames_dir.empty()
+            ? (std::filesystem::absolute(config_.archive.path).parent_path() / "frames").string()
+            : config_.camera.frames_dir;
     Recorder* archive_writer = parts_->recorder.get();
     recorder = std::make_unique<FrameRecorder>(
-        [archive_writer](std::vector<archive::FrameRow> rows) { archive_writer->add_frames(std::move(rows)); }, dir,
-        config_.loop.rate_hz);
+        [archive_writer](std::vector<archive::FrameRow> rows) {
+          archive_writer->add_frames(std::move(rows));
+        },
+        dir, config_.loop.rate_hz);
     spdlog::info("camera: {}; frames of each run go to {}", camera->describe(), dir);
   }
-  parts_->camera = std::make_unique<CameraService>(std::move(camera), *parts_->channels, config_.stream.camera_max_hz,
-                                                   std::move(recorder), config_.camera.lost_after_ms);
+  parts_->camera = std::make_unique<CameraService>(
+      std::move(camera), *parts_->channels, config_.stream.camera_max_hz, std::move(recorder),
+      config_.camera.lost_after_ms);
   parts_->camera->add_sink(parts_->api.get());
   parts_->camera->start();
 }
@@ -229,10 +268,13 @@ void RigdApp::start() {
 
 void RigdApp::start_lab_archive() {
   if (!config_.lab_archive.enabled) return;
-  parts_->lab_replicator = std::make_unique<lab_archive::LabReplicator>(config_.lab_archive, config_.archive.path, software_version());
+  parts_->lab_replicator = std::make_unique<lab_archive::LabReplicator>(
+      config_.lab_archive, config_.archive.path, software_version());
   parts_->lab_replicator->start();  // throws naming the password file if it is unsafe
   lab_archive::LabReplicator* replicator = parts_->lab_replicator.get();
-  parts_->api_context.lab_archive_status = [replicator] { return lab_archive::status_json(replicator->status()); };
+  parts_->api_context.lab_archive_status = [replicator] {
+    return lab_archive::status_json(replicator->status());
+  };
   parts_->api_context.lab_archive_connection = lab_archive::connection_params(config_.lab_archive);
   spdlog::info("lab archive: replicating as rig {}", replicator->status().rig_id);
 }

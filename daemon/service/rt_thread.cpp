@@ -17,13 +17,16 @@ RtThreadReport lock_process_memory(bool lock) {
   report.memory_locked = memory.locked;
   report.memory_locked_on_fault = memory.locked && memory.on_fault_only;
   if (!memory.locked) {
-    report.warnings.push_back("mlockall failed (" + memory.error + "): page faults may delay the loop; raise LimitMEMLOCK");
+    report.warnings.push_back("mlockall failed (" + memory.error +
+                              "): page faults may delay the loop; raise LimitMEMLOCK");
   }
   return report;
 }
 
-std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body, RtThreadReport& report) {
-  // The body waits until name, priority and CPU are set: its first cycle already runs as configured.
+std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body,
+                            RtThreadReport& report) {
+  // The body waits until name, priority and CPU are set: its first cycle already runs as
+  // configured.
   std::promise<void> configured;
   std::thread thread([body = std::move(body), go = configured.get_future()]() mutable {
     go.wait();
@@ -38,8 +41,10 @@ std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()
     if (rc == 0) {
       report.realtime = true;
     } else {
-      report.warnings.push_back("SCHED_FIFO priority " + std::to_string(options.priority) + " refused (" +
-                                std::strerror(rc) + "): the loop runs with normal scheduling; grant CAP_SYS_NICE / LimitRTPRIO");
+      report.warnings.push_back(
+          "SCHED_FIFO priority " + std::to_string(options.priority) + " refused (" +
+          std::strerror(rc) +
+          "): the loop runs with normal scheduling; grant CAP_SYS_NICE / LimitRTPRIO");
     }
   }
   if (options.cpu >= 0) {
@@ -50,7 +55,8 @@ std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()
     if (rc == 0) {
       report.pinned = true;
     } else {
-      report.warnings.push_back("pinning the loop to CPU " + std::to_string(options.cpu) + " failed: " + std::strerror(rc));
+      report.warnings.push_back("pinning the loop to CPU " + std::to_string(options.cpu) +
+                                " failed: " + std::strerror(rc));
     }
   }
   configured.set_value();

@@ -14,7 +14,8 @@ struct RtThreadOptions {
   int priority = 80;  // 0 = normal scheduling
   int cpu = -1;
   bool lock_memory = true;
-  const char* name = "rigd-loop";  // the thread's name (15 characters at most): `top -H`, `ps -L`, the tests
+  const char* name =
+      "rigd-loop";  // the thread's name (15 characters at most): `top -H`, `ps -L`, the tests
 };
 
 struct RtThreadReport {
@@ -28,6 +29,7 @@ struct RtThreadReport {
 // Locks memory for the whole process (call before starting other threads).
 RtThreadReport lock_process_memory(bool lock);
 // Starts `body` on a thread with the RT attributes; fills report.realtime/pinned.
-std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body, RtThreadReport& report);
+std::thread start_rt_thread(const RtThreadOptions& options, std::function<void()> body,
+                            RtThreadReport& report);
 
 }  // namespace rig::service

@@ -27,11 +27,17 @@ void StreamHub::Columns::clear() {
 StreamHub::StreamHub(rt::LoopChannels& channels, double surface_mm, int batch_ms)
     : channels_(&channels), surface_mm_(surface_mm), batch_ms_(batch_ms) {}
 
-StreamHub::~StreamHub() { stop(); }
+StreamHub::~StreamHub() {
+  stop();
+}
 
-void StreamHub::add_sink(StreamSink* sink) { sinks_.push_back(sink); }
+void StreamHub::add_sink(StreamSink* sink) {
+  sinks_.push_back(sink);
+}
 
-void StreamHub::start() { thread_ = std::thread([this] { run(); }); }
+void StreamHub::start() {
+  thread_ = std::thread([this] { run(); });
+}
 
 void StreamHub::stop() {
   if (!thread_.joinable()) return;
@@ -69,15 +75,19 @@ std::string StreamHub::model_curve_json(double iop_mmHg) const {
   return j.dump();
 }
 
-double StreamHub::predict_at(const model::ForceModel& m, rt::CutPhase phase, double x, double iop, double& hold_x_mm) {
+double StreamHub::predict_at(const model::ForceModel& m, rt::CutPhase phase, double x, double iop,
+                             double& hold_x_mm) {
   switch (phase) {
     case rt::CutPhase::kApproach:
     case rt::CutPhase::kInsert:
       hold_x_mm = x;
       return m.baseline(x, iop);
-    case rt::CutPhase::kHold: return m.baseline(hold_x_mm, iop);
-    case rt::CutPhase::kRetract: return 0.0;  // the blade leaves its own cut
-    case rt::CutPhase::kNone: break;
+    case rt::CutPhase::kHold:
+      return m.baseline(hold_x_mm, iop);
+    case rt::CutPhase::kRetract:
+      return 0.0;  // the blade leaves its own cut
+    case rt::CutPhase::kNone:
+      break;
   }
   return std::numeric_limits<double>::quiet_NaN();
 }
@@ -121,7 +131,8 @@ void StreamHub::send_batch() {
   batch.residual_N = columns_.residual_N;
   batch.iop_mmHg = columns_.iop_mmHg;
   batch.phase = columns_.phase;
-  batch.sent_unix_s = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  batch.sent_unix_s =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   batch.loop_start_monotonic_s = static_cast<double>(channels_->counters.start_ns.load()) * 1e-9;
   auto message = std::make_shared<const std::string>(nlohmann::json(batch).dump());
   for (StreamSink* sink : sinks_) sink->publish(message);
@@ -138,14 +149,16 @@ void StreamHub::send_events() {
     event.state = std::string(rt::to_string(e.to));
     event.fault = std::string(rt::to_string(e.fault));
     event.run_id = e.run_id;
-    event.message = e.kind == rt::EventKind::kFault ? describe_fault(e.fault, e.value)
-                    : e.kind == rt::EventKind::kCommand
-                        ? std::string(rt::to_string(e.command)) + ": " + std::string(rt::to_string(e.result))
-                        : std::string(rt::to_string(e.from)) + " -> " + std::string(rt::to_string(e.to));
+    event.message =
+        e.kind == rt::EventKind::kFault ? describe_fault(e.fault, e.value)
+        : e.kind == rt::EventKind::kCommand
+            ? std::string(rt::to_string(e.command)) + ": " + std::string(rt::to_string(e.result))
+            : std::string(rt::to_string(e.from)) + " -> " + std::string(rt::to_string(e.to));
     auto message = std::make_shared<const std::string>(nlohmann::json(event).dump());
     for (StreamSink* sink : sinks_) sink->publish(message);
     if (e.kind == rt::EventKind::kRunStarted) {
-      auto curve = std::make_shared<const std::string>(model_curve_json(channels_->status.read().params.iop_mmHg));
+      auto curve = std::make_shared<const std::string>(
+          model_curve_json(channels_->status.read().params.iop_mmHg));
       for (StreamSink* sink : sinks_) sink->publish(curve);
     }
   }

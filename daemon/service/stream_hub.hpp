@@ -32,8 +32,8 @@ class StreamHub {
   // The model's force for one sample at depth x [mm] in its phase: the baseline while the
   // blade goes in, the force at the hold's depth [mm] (kept in hold_x_mm) in the hold, 0 on
   // the way out, NaN outside a cut. The archive replay (api/run_replay) uses it too.
-  static double predict_at(const model::ForceModel& model, rt::CutPhase phase, double x_mm, double iop_mmHg,
-                           double& hold_x_mm);
+  static double predict_at(const model::ForceModel& model, rt::CutPhase phase, double x_mm,
+                           double iop_mmHg, double& hold_x_mm);
 
  private:
   struct Columns {

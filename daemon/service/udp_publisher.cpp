@@ -5,7 +5,8 @@
 namespace rig::service {
 
 UdpPublisher::UdpPublisher(const std::string& host, int port)
-    : socket_(io_), destination_(boost::asio::ip::make_address(host), static_cast<unsigned short>(port)) {
+    : socket_(io_),
+      destination_(boost::asio::ip::make_address(host), static_cast<unsigned short>(port)) {
   socket_.open(destination_.protocol());
   socket_.non_blocking(true);  // a full socket buffer drops the datagram instead of waiting
 }

@@ -2,10 +2,16 @@
 
 namespace rig::service {
 
-WatchdogFeeder::WatchdogFeeder(std::chrono::microseconds interval, Alive loop_alive, Feed feed, Report report)
-    : period_(interval / 2), loop_alive_(std::move(loop_alive)), feed_(std::move(feed)), report_(std::move(report)) {}
+WatchdogFeeder::WatchdogFeeder(std::chrono::microseconds interval, Alive loop_alive, Feed feed,
+                               Report report)
+    : period_(interval / 2),
+      loop_alive_(std::move(loop_alive)),
+      feed_(std::move(feed)),
+      report_(std::move(report)) {}
 
-WatchdogFeeder::~WatchdogFeeder() { stop(); }
+WatchdogFeeder::~WatchdogFeeder() {
+  stop();
+}
 
 void WatchdogFeeder::start() {
   if (period_.count() <= 0 || thread_.joinable()) return;

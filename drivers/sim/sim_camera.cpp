@@ -7,7 +7,8 @@
 namespace rig::drivers {
 
 SimCamera::SimCamera(const CameraSettings& settings, std::function<CameraScene()> scene)
-    : settings_(settings), scene_(std::move(scene)),
+    : settings_(settings),
+      scene_(std::move(scene)),
       pixels_(static_cast<std::size_t>(settings.width * settings.height), 0) {}
 
 IoStatus SimCamera::start() noexcept {
@@ -42,12 +43,15 @@ void SimCamera::render(const CameraScene& scene) {
       const double r = std::sqrt(dx * dx + dy * dy);
       const double indented = r - (cx - apex_x) + std::abs(dy) * 0.02;
       std::uint8_t v = 30;
-      if (indented < 0.0) v = 150;                         // the eye
-      if (std::abs(indented) < 2.0) v = 230;               // the cornea
+      if (indented < 0.0) v = 150;                                  // the eye
+      if (std::abs(indented) < 2.0) v = 230;                        // the cornea
       const double half_width = std::max(0.0, (tip_x - x) * 0.18);  // the blade, a wedge
       if (x <= tip_x && std::abs(y - cy) <= half_width && x > tip_x - 14.0 * px_per_mm) v = 245;
-      if (cut && x > w * 0.4 && x < w * 0.4 + deepest_mm_ * px_per_mm && std::abs(y - cy) < 1.5 && x > tip_x) v = 10;
-      pixels_[static_cast<std::size_t>(y * w + x)] = v;
+      if (cut && x > w * 0.4 && x < w * 0.4 + deepest_mm_ * px_per_mm && std::abs(y - cy) < 1.5 &&
+          x > tip_x)
+        v = 10;
+      pixels_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
+              static_cast<std::size_t>(x)] = v;
     }
   }
 }
@@ -60,7 +64,8 @@ IoStatus SimCamera::next_frame(FrameView& frame, int timeout_us) noexcept {
     // A real camera does not deliver frames its reader was too slow for: they are lost.
     const auto missed = static_cast<std::uint64_t>(late / period);
     counters_.dropped += missed;
-    next_ += std::chrono::duration_cast<std::chrono::steady_clock::duration>(period * static_cast<double>(missed));
+    next_ += std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+        period * static_cast<double>(missed));
   }
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(timeout_us);
   if (next_ > deadline) {
@@ -75,7 +80,8 @@ IoStatus SimCamera::next_frame(FrameView& frame, int timeout_us) noexcept {
   frame.width = settings_.width;
   frame.height = settings_.height;
   frame.format = PixelFormat::kMono8;
-  frame.host_timestamp_ns = static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
+  frame.host_timestamp_ns =
+      static_cast<std::uint64_t>(std::chrono::duration_cast<std::chrono::nanoseconds>(now).count());
   frame.camera_timestamp_ns = frame.host_timestamp_ns;
   frame.frame_id = ++counters_.frames;
   return IoStatus::kOk;

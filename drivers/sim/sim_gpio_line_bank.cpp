@@ -11,7 +11,8 @@ std::int64_t monotonic_ns() noexcept {
 }
 }  // namespace
 
-void SimGpioLineBank::set_input(std::size_t input, bool active, std::int64_t timestamp_ns) noexcept {
+void SimGpioLineBank::set_input(std::size_t input, bool active,
+                                std::int64_t timestamp_ns) noexcept {
   if (input >= kLines) return;
   Input& line = inputs_[input];
   line.level.store(active, std::memory_order_relaxed);
@@ -28,7 +29,8 @@ std::int64_t SimGpioLineBank::output_changed_ns(std::size_t output) const noexce
 }
 
 IoStatus SimGpioLineBank::read_levels(std::span<bool> levels) noexcept {
-  for (std::size_t i = 0; i < levels.size() && i < kLines; ++i) levels[i] = inputs_[i].level.load(std::memory_order_acquire);
+  for (std::size_t i = 0; i < levels.size() && i < kLines; ++i)
+    levels[i] = inputs_[i].level.load(std::memory_order_acquire);
   return IoStatus::kOk;
 }
 
@@ -39,7 +41,8 @@ IoStatus SimGpioLineBank::poll_edges(std::span<LineEdge> edges, std::size_t& cou
     const std::uint64_t total = line.edges.load(std::memory_order_acquire);
     if (total == line.edges_seen) continue;
     line.edges_seen = total;
-    edges[count++] = LineEdge{i, line.level.load(std::memory_order_relaxed), line.edge_ns.load(std::memory_order_relaxed)};
+    edges[count++] = LineEdge{i, line.level.load(std::memory_order_relaxed),
+                              line.edge_ns.load(std::memory_order_relaxed)};
   }
   return IoStatus::kOk;
 }

@@ -10,11 +10,16 @@
 namespace rig::drivers {
 
 SimPhantom::SimPhantom(const SimPhantomSettings& settings, const VirtualHand& hand)
-    : s_(settings), hand_(&hand), pending_(static_cast<std::size_t>(std::max(settings.latency_ticks, 0)) + 1, 0.0) {
-  felt_.reserve(static_cast<std::size_t>(hand.duration_s() * settings.rate_hz) + 16);  // no allocation while running
+    : s_(settings),
+      hand_(&hand),
+      pending_(static_cast<std::size_t>(std::max(settings.latency_ticks, 0)) + 1, 0.0) {
+  felt_.reserve(static_cast<std::size_t>(hand.duration_s() * settings.rate_hz) +
+                16);  // no allocation while running
 }
 
-SimPhantom::~SimPhantom() { stop(); }
+SimPhantom::~SimPhantom() {
+  stop();
+}
 
 double SimPhantom::output_latency_s() const noexcept {
   // The latency line plus the first-order amplifier's time constant.
@@ -47,10 +52,13 @@ void SimPhantom::tick(std::size_t k) noexcept {
   const double depth = hand_->depth_mm(t);
   const double encoder = std::round(depth / s_.encoder_resolution_mm) * s_.encoder_resolution_mm;
   Vec3 position{};
-  for (int i = 0; i < 3; ++i) position[static_cast<std::size_t>(i)] = s_.surface_mm[static_cast<std::size_t>(i)] + s_.axis[static_cast<std::size_t>(i)] * encoder;
+  for (int i = 0; i < 3; ++i)
+    position[static_cast<std::size_t>(i)] =
+        s_.surface_mm[static_cast<std::size_t>(i)] + s_.axis[static_cast<std::size_t>(i)] * encoder;
   const Vec3 command = servo_->tick(position, t);
   // The command's component against the axis resists insertion.
-  const double along = -(command[0] * s_.axis[0] + command[1] * s_.axis[1] + command[2] * s_.axis[2]);
+  const double along =
+      -(command[0] * s_.axis[0] + command[1] * s_.axis[1] + command[2] * s_.axis[2]);
   pending_.back() = forced_off_.load(std::memory_order_relaxed) ? 0.0 : along;
   const double applied = pending_.front();  // one tick late
   for (std::size_t i = 0; i + 1 < pending_.size(); ++i) pending_[i] = pending_[i + 1];

@@ -7,7 +7,9 @@ namespace rig::drivers {
 PushingHand::PushingHand(double velocity_mm_s, double depth_mm, double start_mm, double hold_s)
     : v_(velocity_mm_s), depth_(depth_mm), start_(start_mm), hold_(hold_s) {}
 
-double PushingHand::duration_s() const noexcept { return 2.0 * (depth_ - start_) / v_ + hold_; }
+double PushingHand::duration_s() const noexcept {
+  return 2.0 * (depth_ - start_) / v_ + hold_;
+}
 
 double PushingHand::depth_mm(double t) const noexcept {
   const double in = (depth_ - start_) / v_;
@@ -16,7 +18,8 @@ double PushingHand::depth_mm(double t) const noexcept {
   return std::max(start_, depth_ - v_ * (t - in - hold_));
 }
 
-RecordedHand::RecordedHand(std::vector<double> t_s, std::vector<double> x_mm) : t_(std::move(t_s)), x_(std::move(x_mm)) {}
+RecordedHand::RecordedHand(std::vector<double> t_s, std::vector<double> x_mm)
+    : t_(std::move(t_s)), x_(std::move(x_mm)) {}
 
 double RecordedHand::depth_mm(double t) const noexcept {
   if (t_.empty()) return 0.0;

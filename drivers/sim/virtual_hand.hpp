@@ -40,7 +40,9 @@ class FollowingHand final : public VirtualHand {
  public:
   explicit FollowingHand(double duration_s) : duration_s_(duration_s) {}
   void set_depth(double depth_mm) noexcept { depth_.store(depth_mm, std::memory_order_relaxed); }
-  double depth_mm(double /*t_s*/) const noexcept override { return depth_.load(std::memory_order_relaxed); }
+  double depth_mm(double /*t_s*/) const noexcept override {
+    return depth_.load(std::memory_order_relaxed);
+  }
   double duration_s() const noexcept override { return duration_s_; }
 
  private:

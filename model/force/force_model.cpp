@@ -5,7 +5,8 @@
 
 namespace rig::model {
 
-double IopTable::interpolate(const std::vector<double>& values, double iop, bool* extrapolated) const {
+double IopTable::interpolate(const std::vector<double>& values, double iop,
+                             bool* extrapolated) const {
   const std::size_t n = iop_mmHg.size();
   if (extrapolated != nullptr) *extrapolated = iop < iop_mmHg.front() || iop > iop_mmHg.back();
   if (n == 1) return values.front();
@@ -29,14 +30,18 @@ bool PrintedParams::has(const std::string& name) const {
   return false;
 }
 
-ForceModel ForceModel::paper_interpreted() { return ForceModel{}; }
+ForceModel ForceModel::paper_interpreted() {
+  return ForceModel{};
+}
 
 double ForceModel::puncture_depth_mm(double iop) const {
-  return table.interpolate(table.x_pi_mm, iop) + (form == ModelForm::kContinuous ? params.x_pi_shift : 0.0);
+  return table.interpolate(table.x_pi_mm, iop) +
+         (form == ModelForm::kContinuous ? params.x_pi_shift : 0.0);
 }
 
 double ForceModel::final_depth_mm(double iop) const {
-  return table.interpolate(table.x_pf_mm, iop) + (form == ModelForm::kContinuous ? params.x_pf_shift : 0.0);
+  return table.interpolate(table.x_pf_mm, iop) +
+         (form == ModelForm::kContinuous ? params.x_pf_shift : 0.0);
 }
 
 bool ForceModel::extrapolates(double iop) const {
@@ -45,15 +50,19 @@ bool ForceModel::extrapolates(double iop) const {
   return out;
 }
 
-ForceModel::RunDepths ForceModel::depths(double iop_mmHg) const { return {iop_mmHg, puncture_depth_mm(iop_mmHg), final_depth_mm(iop_mmHg)}; }
+ForceModel::RunDepths ForceModel::depths(double iop_mmHg) const {
+  return {iop_mmHg, puncture_depth_mm(iop_mmHg), final_depth_mm(iop_mmHg)};
+}
 
 double ForceModel::baseline(double x_mm, double iop_mmHg) const {
   if (x_mm <= 0.0) return 0.0;
-  return form == ModelForm::kPrinted ? as_printed(x_mm, iop_mmHg) : continuous(x_mm, depths(iop_mmHg));
+  return form == ModelForm::kPrinted ? as_printed(x_mm, iop_mmHg)
+                                     : continuous(x_mm, depths(iop_mmHg));
 }
 
 double ForceModel::baseline(double x_mm, double front_mm, double iop_mmHg) const {
-  return form == ModelForm::kPrinted ? baseline(x_mm, iop_mmHg) : baseline(x_mm, front_mm, depths(iop_mmHg));
+  return form == ModelForm::kPrinted ? baseline(x_mm, iop_mmHg)
+                                     : baseline(x_mm, front_mm, depths(iop_mmHg));
 }
 
 double ForceModel::baseline(double x_mm, double front_mm, const RunDepths& run) const {
@@ -96,7 +105,8 @@ double ForceModel::as_printed(double x, double iop) const {
   const double xpf = final_depth_mm(iop);
   if (x <= p.x_toe_end_mm) return v("a") * x;
   if (x <= xpi) return v("b") * x - v("c");
-  if (x <= p.x_cut_end_mm) return v("d") * (std::log(std::max(x - v("e"), 1e-12)) - v("f") * x) + v("g") * iop;
+  if (x <= p.x_cut_end_mm)
+    return v("d") * (std::log(std::max(x - v("e"), 1e-12)) - v("f") * x) + v("g") * iop;
   if (x <= xpf) return v("h") * x + v("m") + v("n") * iop;
   return 0.0;
 }

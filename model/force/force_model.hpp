@@ -23,7 +23,8 @@ struct IopTable {
   std::vector<double> x_pf_mm{9.35, 9.55, 9.83, 10.03};
   // Linear interpolation; outside the table the end segments are extended and
   // `extrapolated` is set (callers warn).
-  double interpolate(const std::vector<double>& values, double iop, bool* extrapolated = nullptr) const;
+  double interpolate(const std::vector<double>& values, double iop,
+                     bool* extrapolated = nullptr) const;
 };
 
 // Our continuous interpretation (docs/model.md).
@@ -31,7 +32,7 @@ struct ContinuousParams {
   double a = 0.0066, x1 = 0.75, b = 0.078;
   double d = -0.004, e = 3.282, f = -0.495, g = 0.02, g0 = -0.114;
   double x_c = 6.89, w_drop = 0.05;
-  double w_release = 0.2;   // withdrawal over which the force at the deepest point is released [mm]
+  double w_release = 0.2;  // withdrawal over which the force at the deepest point is released [mm]
   double x_pi_shift = 0.0, x_pf_shift = 0.0;  // fitted shifts of the Table-1 depths [mm]
 };
 
@@ -45,15 +46,15 @@ struct PrintedParams {
 };
 
 struct EffectSetting {
-  std::string name;                       // catalogue name, covariate:KEY or user:NAME
-  std::map<std::string, double> params;   // shared parameters
+  std::string name;                      // catalogue name, covariate:KEY or user:NAME
+  std::map<std::string, double> params;  // shared parameters
 };
 
 struct UserTerm {
   std::string name;
-  std::string expression;                 // muParser: x, t, v, P, F, L, th, is_PHASE, covariates, params
-  std::string phase;                      // insertion, cutting, precut, hold, retraction, all
-  std::map<std::string, double> params;   // initial values, refitted by the lab
+  std::string expression;  // muParser: x, t, v, P, F, L, th, is_PHASE, covariates, params
+  std::string phase;       // insertion, cutting, precut, hold, retraction, all
+  std::map<std::string, double> params;  // initial values, refitted by the lab
 };
 
 class ForceModel {
@@ -90,7 +91,7 @@ class ForceModel {
   ContinuousParams params;
   PrintedParams printed;
   std::vector<EffectSetting> effects;
-  std::vector<UserTerm> user_terms;       // part of the model: always fitted, saved in [terms]
+  std::vector<UserTerm> user_terms;  // part of the model: always fitted, saved in [terms]
   // Terms offered but not (yet) part of the model (`--terms FILE`): diagnose scores them as
   // candidates, `fit --add user:NAME` adds them. Never saved with the model.
   std::vector<UserTerm> candidate_terms;

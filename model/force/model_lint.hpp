@@ -11,11 +11,11 @@ namespace rig::model {
 struct LintFinding {
   enum class Severity { kError, kWarning, kInfo };
   Severity severity = Severity::kInfo;
-  std::string what;            // the finding, in words
-  double x_mm = 0.0;           // where (discontinuities)
-  double iop_mmHg = 0.0;       // for which IOP
-  double size_N = 0.0;         // jump (right - left) at a discontinuity
-  double lowest_N = 0.0;       // the most negative force of a piece that goes below zero
+  std::string what;       // the finding, in words
+  double x_mm = 0.0;      // where (discontinuities)
+  double iop_mmHg = 0.0;  // for which IOP
+  double size_N = 0.0;    // jump (right - left) at a discontinuity
+  double lowest_N = 0.0;  // the most negative force of a piece that goes below zero
 };
 
 std::vector<LintFinding> lint_model(const ForceModel& model);

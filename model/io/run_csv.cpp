@@ -16,10 +16,14 @@ std::string escape_meta(const std::string& value) {
   std::string out;
   out.reserve(value.size());
   for (const char c : value) {
-    if (c == '\n') out += "\\n";
-    else if (c == '\r') out += "\\r";
-    else if (c == '\\') out += "\\\\";
-    else out.push_back(c);
+    if (c == '\n')
+      out += "\\n";
+    else if (c == '\r')
+      out += "\\r";
+    else if (c == '\\')
+      out += "\\\\";
+    else
+      out.push_back(c);
   }
   return out;
 }
@@ -44,10 +48,12 @@ std::vector<std::string> split_commas(const std::string& line) {
   std::size_t start = 0;
   while (true) {
     const auto comma = line.find(',', start);
-    std::string field = line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    std::string field =
+        line.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
     const auto first = field.find_first_not_of(' ');
     const auto last = field.find_last_not_of(' ');
-    fields.push_back(first == std::string::npos ? std::string() : field.substr(first, last - first + 1));
+    fields.push_back(first == std::string::npos ? std::string()
+                                                : field.substr(first, last - first + 1));
     if (comma == std::string::npos) return fields;
     start = comma + 1;
   }
@@ -62,7 +68,9 @@ struct Columns {
 
 class Parser {
  public:
-  Parser(std::istream& in, std::string name) : in_(in), name_(std::move(name)) { run_.source = name_; }
+  Parser(std::istream& in, std::string name) : in_(in), name_(std::move(name)) {
+    run_.source = name_;
+  }
 
   RunData parse() {
     std::string line;
@@ -85,7 +93,8 @@ class Parser {
     if (run_.t_s.empty()) fail(line_no_, "no data rows");
     for (const char* key : {"iop_mmHg", "velocity_mm_s"}) {
       if (!run_.number(key)) {
-        run_.warnings.push_back(name_ + ": no numeric '" + key + "' metadata: left out of analyses that need it");
+        run_.warnings.push_back(name_ + ": no numeric '" + key +
+                                "' metadata: left out of analyses that need it");
       }
     }
     return std::move(run_);
@@ -103,12 +112,14 @@ class Parser {
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
     const std::size_t key_begin = i;
     const auto is_key_char = [](char c, bool first) {
-      return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_' || (!first && std::isdigit(static_cast<unsigned char>(c)) != 0);
+      return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_' ||
+             (!first && std::isdigit(static_cast<unsigned char>(c)) != 0);
     };
     while (i < line.size() && is_key_char(line[i], i == key_begin)) ++i;
     const std::size_t key_end = i;
     while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
-    if (key_end == key_begin || i >= line.size() || line[i] != ':') fail(line_no_, "metadata line is not '# key: value'");
+    if (key_end == key_begin || i >= line.size() || line[i] != ':')
+      fail(line_no_, "metadata line is not '# key: value'");
     ++i;
     if (i < line.size() && line[i] == ' ') ++i;
     std::string value = unescape_meta(line.substr(i));
@@ -120,21 +131,27 @@ class Parser {
     header_ = split_commas(line);
     for (std::size_t i = 0; i < header_.size(); ++i) {
       const std::string& name = header_[i];
-      if (name.empty()) fail(line_no_, "empty column name in the header (column " + std::to_string(i + 1) + ")");
+      if (name.empty())
+        fail(line_no_, "empty column name in the header (column " + std::to_string(i + 1) + ")");
       for (std::size_t j = 0; j < i; ++j) {
         if (header_[j] == name) fail(line_no_, "column '" + name + "' appears twice");
       }
       const int index = static_cast<int>(i);
-      if (name == "t_s") columns_.t = index;
-      else if (name == "x_mm") columns_.x = index;
-      else if (name == "force_N") columns_.force = index;
+      if (name == "t_s")
+        columns_.t = index;
+      else if (name == "x_mm")
+        columns_.x = index;
+      else if (name == "force_N")
+        columns_.force = index;
       else {
         columns_.extra.push_back(index);
         run_.channels.push_back(Channel{name, {}});
       }
     }
-    for (const auto& [col, name] : {std::pair{columns_.t, "t_s"}, std::pair{columns_.x, "x_mm"}, std::pair{columns_.force, "force_N"}}) {
-      if (col < 0) fail(line_no_, std::string("required column '") + name + "' is missing from the header");
+    for (const auto& [col, name] : {std::pair{columns_.t, "t_s"}, std::pair{columns_.x, "x_mm"},
+                                    std::pair{columns_.force, "force_N"}}) {
+      if (col < 0)
+        fail(line_no_, std::string("required column '") + name + "' is missing from the header");
     }
   }
 
@@ -144,7 +161,8 @@ class Parser {
     const char* end = text.data() + text.size();
     const auto result = std::from_chars(text.data(), end, value);
     if (text.empty() || result.ec != std::errc{} || result.ptr != end || !std::isfinite(value)) {
-      fail(line_no_, "column '" + header_[static_cast<std::size_t>(col)] + "': '" + text + "' is not a number");
+      fail(line_no_, "column '" + header_[static_cast<std::size_t>(col)] + "': '" + text +
+                         "' is not a number");
     }
     return value;
   }
@@ -153,11 +171,13 @@ class Parser {
     if (line[0] == '#') fail(line_no_, "metadata line after the header");
     const std::vector<std::string> fields = split_commas(line);
     if (fields.size() != header_.size()) {
-      fail(line_no_, "expected " + std::to_string(header_.size()) + " fields, found " + std::to_string(fields.size()));
+      fail(line_no_, "expected " + std::to_string(header_.size()) + " fields, found " +
+                         std::to_string(fields.size()));
     }
     const double t = number(fields, columns_.t);
     if (!run_.t_s.empty() && t < run_.t_s.back()) {
-      fail(line_no_, "column 't_s': time goes backwards (" + fields[static_cast<std::size_t>(columns_.t)] + " s)");
+      fail(line_no_, "column 't_s': time goes backwards (" +
+                         fields[static_cast<std::size_t>(columns_.t)] + " s)");
     }
     run_.t_s.push_back(t);
     run_.x_mm.push_back(number(fields, columns_.x));
@@ -177,7 +197,9 @@ class Parser {
 
 }  // namespace
 
-RunData read_run_csv(std::istream& in, const std::string& name) { return Parser(in, name).parse(); }
+RunData read_run_csv(std::istream& in, const std::string& name) {
+  return Parser(in, name).parse();
+}
 
 RunData read_run_csv(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -186,7 +208,8 @@ RunData read_run_csv(const std::string& path) {
 }
 
 void write_run_csv(const RunData& run, std::ostream& out) {
-  for (const auto& [key, value] : run.meta) out << "# " << key << ": " << escape_meta(value) << "\n";
+  for (const auto& [key, value] : run.meta)
+    out << "# " << key << ": " << escape_meta(value) << "\n";
   out << "t_s,x_mm,force_N";
   for (const auto& c : run.channels) out << "," << c.name;
   out << "\n";

@@ -40,14 +40,17 @@ const Channel* RunData::channel(const std::string& name) const {
 }
 
 std::optional<std::string> RunData::channel_length_mismatch() const {
-  const auto values_for_samples = [this](const std::string& what, std::size_t values) -> std::optional<std::string> {
+  const auto values_for_samples = [this](const std::string& what,
+                                         std::size_t values) -> std::optional<std::string> {
     if (values == size()) return std::nullopt;
-    return what + " has " + std::to_string(values) + " values for " + std::to_string(size()) + " samples";
+    return what + " has " + std::to_string(values) + " values for " + std::to_string(size()) +
+           " samples";
   };
   if (auto mismatch = values_for_samples("column 'x_mm'", x_mm.size())) return mismatch;
   if (auto mismatch = values_for_samples("column 'force_N'", force_N.size())) return mismatch;
   for (const auto& c : channels) {
-    if (auto mismatch = values_for_samples("channel '" + c.name + "'", c.values.size())) return mismatch;
+    if (auto mismatch = values_for_samples("channel '" + c.name + "'", c.values.size()))
+      return mismatch;
   }
   return std::nullopt;
 }

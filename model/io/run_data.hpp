@@ -14,9 +14,9 @@ struct Channel {
 };
 
 struct RunData {
-  std::string source;  // file path or "archive run N"
+  std::string source;                                     // file path or "archive run N"
   std::vector<std::pair<std::string, std::string>> meta;  // in file order, unknown keys kept
-  std::vector<double> t_s;      // seconds from the start of the run
+  std::vector<double> t_s;                                // seconds from the start of the run
   std::vector<double> x_mm;     // displacement from first contact, + into the eye
   std::vector<double> force_N;  // axial force, + pushing into the eye
   std::vector<Channel> channels;

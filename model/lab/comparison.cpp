@@ -29,18 +29,21 @@ std::vector<std::string> numeric_keys(const std::vector<const PreparedRun*>& run
   return out;
 }
 
-CovariateTrend trend(const std::string& key, const std::vector<const PreparedRun*>& runs, const std::vector<RunComparison>& cmp) {
+CovariateTrend trend(const std::string& key, const std::vector<const PreparedRun*>& runs,
+                     const std::vector<RunComparison>& cmp) {
   CovariateTrend t;
   t.key = key;
   for (std::size_t r = 0; r < runs.size(); ++r) {
     double sum = 0.0;
     for (const std::size_t i : runs[r]->analysed) sum += runs[r]->covariate(key, i).value_or(0.0);
-    t.values.push_back(runs[r]->analysed.empty() ? 0.0 : sum / static_cast<double>(runs[r]->analysed.size()));
+    t.values.push_back(
+        runs[r]->analysed.empty() ? 0.0 : sum / static_cast<double>(runs[r]->analysed.size()));
     t.run_rmse_N.push_back(cmp[r].overall.rmse_N);
   }
   const double n = static_cast<double>(t.values.size());
   double mx = 0, my = 0;
-  for (std::size_t i = 0; i < t.values.size(); ++i) mx += t.values[i] / n, my += t.run_rmse_N[i] / n;
+  for (std::size_t i = 0; i < t.values.size(); ++i)
+    mx += t.values[i] / n, my += t.run_rmse_N[i] / n;
   double sxy = 0, sxx = 0, syy = 0;
   for (std::size_t i = 0; i < t.values.size(); ++i) {
     sxy += (t.values[i] - mx) * (t.run_rmse_N[i] - my);
@@ -52,7 +55,8 @@ CovariateTrend trend(const std::string& key, const std::vector<const PreparedRun
   return t;
 }
 
-void add_spectra(const PreparedRun& run, const std::vector<double>& residual, Spectrum& in_time, Spectrum& in_x) {
+void add_spectra(const PreparedRun& run, const std::vector<double>& residual, Spectrum& in_time,
+                 Spectrum& in_x) {
   std::vector<double> t, rt, x, rx;
   for (std::size_t k = 0; k < run.analysed.size(); ++k) {
     const std::size_t i = run.analysed[k];
@@ -72,31 +76,53 @@ void add_spectra(const PreparedRun& run, const std::vector<double>& residual, Sp
 
 // The lab's family (Eq. 1 in our continuous reading plus the file's effects), optionally
 // refitted across the runs first.
-std::function<std::vector<double>(const PreparedRun&)> family_residuals(const ForceModel& model, const std::vector<const PreparedRun*>& runs,
-                                                                        bool refit) {
+std::function<std::vector<double>(const PreparedRun&)> family_residuals(
+    const ForceModel& model, const std::vector<const PreparedRun*>& runs, bool refit) {
   auto catalogue = std::make_shared<EffectCatalogue>(model, runs);
   auto family = std::make_shared<ModelFamily>(model, *catalogue, std::vector<std::string>{});
   ModelParams params = family->start(runs);
   if (refit) params = Fitter(family->predictor(), runs).fit(params, 400).params;
-  return [catalogue, family, params](const PreparedRun& run) { return Fitter::residuals(family->predictor(), run, params, run.analysed); };
+  return [catalogue, family, params](const PreparedRun& run) {
+    return Fitter::residuals(family->predictor(), run, params, run.analysed);
+  };
 }
 
 // Eq. 1 exactly as printed: evaluated as printed (never silently as our reading), with a
 // warning that says so; it has no parameters the lab could refit.
-std::function<std::vector<double>(const PreparedRun&)> printed_residuals(const ForceModel& model, bool refit, std::vector<std::string>& warnings) {
+std::function<std::vector<double>(const PreparedRun&)> printed_residuals(
+    const ForceModel& model, bool refit, std::vector<std::string>& warnings) {
   if (refit) throw ModelFileError(printed_form_refusal(model, "refit"));
   if (!model.effects.empty() || !model.user_terms.empty()) {
-    throw ModelFileError(model.path + ": a printed-form model (form eq1-printed) cannot carry effects or terms: the lab adds them to the continuous form only");
+    throw ModelFileError(model.path +
+                         ": a printed-form model (form eq1-printed) cannot carry effects or terms: "
+                         "the lab adds them to the continuous form only");
   }
   warnings.push_back(printed_form_warning(model));
   return [&model](const PreparedRun& run) {
     std::vector<double> out;
     out.reserve(run.analysed.size());
     for (const std::size_t i : run.analysed) {
-      out.push_back(run.data->force_N[i] - model.baseline(run.data->x_mm[i], run.front_mm[i], run.iop_mmHg));
+      out.push_back(run.data->force_N[i] -
+                    model.baseline(run.data->x_mm[i], run.front_mm[i], run.iop_mmHg));
     }
     return out;
   };
+}
+
+}  // namespace
+
+namespace {
+
+// The residual's spectra in time [Hz] and along x [1/mm], and their five largest peaks.
+void finish_spectra(Spectrum& in_time, Spectrum& in_x, Comparison& out) {
+  in_time.finish();
+  in_x.finish();
+  for (const auto& [f, a] : in_time.peaks(5, 0.5)) out.time_spectrum.push_back({f, a});
+  for (const auto& [f, a] : in_x.peaks(5, 0.2)) out.displacement_spectrum.push_back({f, a});
+  out.time_frequency_Hz = in_time.frequency;
+  out.time_amplitude_N = in_time.amplitude;
+  out.x_frequency_per_mm = in_x.frequency;
+  out.x_amplitude_N = in_x.amplitude;
 }
 
 }  // namespace
@@ -105,6 +131,7 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
   Comparison out;
   out.model_name = model.name;
   std::vector<PreparedRun> prepared;
+  prepared.reserve(data.size());
   for (const RunData& r : data) prepared.push_back(prepare_run(r));
   std::vector<const PreparedRun*> runs;
   for (const PreparedRun& p : prepared) {
@@ -112,8 +139,10 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
     out.warnings.insert(out.warnings.end(), p.warnings.begin(), p.warnings.end());
   }
   const std::function<std::vector<double>(const PreparedRun&)> residuals_of =
-      model.form == ModelForm::kPrinted ? printed_residuals(model, refit, out.warnings) : family_residuals(model, runs, refit);
+      model.form == ModelForm::kPrinted ? printed_residuals(model, refit, out.warnings)
+                                        : family_residuals(model, runs, refit);
   std::vector<MetricsAccumulator> phases;
+  phases.reserve(kPhaseCount);
   for (int p = 0; p < kPhaseCount; ++p) phases.emplace_back(phase_name(static_cast<Phase>(p)));
   std::vector<MetricsAccumulator> bands;
   MetricsAccumulator overall("all");
@@ -134,7 +163,9 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
       overall.add(y, residual[k], x, t, rc.label);
       if (i <= run->seg.insertion_end && x >= 0.0) {
         const auto band = static_cast<std::size_t>(x);
-        while (bands.size() <= band) bands.emplace_back(std::to_string(bands.size()) + "-" + std::to_string(bands.size() + 1) + " mm");
+        while (bands.size() <= band)
+          bands.emplace_back(std::to_string(bands.size()) + "-" + std::to_string(bands.size() + 1) +
+                             " mm");
         bands[band].add(y, residual[k], x, t, rc.label);
       }
     }
@@ -148,14 +179,7 @@ Comparison compare(const ForceModel& model, const std::vector<RunData>& data, bo
   for (const auto& b : bands) out.by_depth.push_back(b.finish());
   out.overall = overall.finish();
   for (const auto& key : numeric_keys(runs)) out.covariates.push_back(trend(key, runs, out.runs));
-  in_time.finish();
-  in_x.finish();
-  for (const auto& [f, a] : in_time.peaks(5, 0.5)) out.time_spectrum.push_back({f, a});
-  for (const auto& [f, a] : in_x.peaks(5, 0.2)) out.displacement_spectrum.push_back({f, a});
-  out.time_frequency_Hz = in_time.frequency;
-  out.time_amplitude_N = in_time.amplitude;
-  out.x_frequency_per_mm = in_x.frequency;
-  out.x_amplitude_N = in_x.amplitude;
+  finish_spectra(in_time, in_x, out);
   out.noise_floor_N = noise_floor(runs);
   return out;
 }

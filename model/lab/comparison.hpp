@@ -38,9 +38,9 @@ struct Comparison {
   std::vector<SegmentMetrics> by_phase;
   std::vector<SegmentMetrics> by_depth;  // 1 mm bands of the insertion
   std::vector<CovariateTrend> covariates;
-  std::vector<SpectrumPeak> time_spectrum;          // strongest peaks
-  std::vector<SpectrumPeak> displacement_spectrum;  // strongest peaks
-  std::vector<double> time_frequency_Hz, time_amplitude_N;      // the averaged spectra, for plots
+  std::vector<SpectrumPeak> time_spectrum;                  // strongest peaks
+  std::vector<SpectrumPeak> displacement_spectrum;          // strongest peaks
+  std::vector<double> time_frequency_Hz, time_amplitude_N;  // the averaged spectra, for plots
   std::vector<double> x_frequency_per_mm, x_amplitude_N;
   SegmentMetrics overall;
   double noise_floor_N = 0.0;

@@ -37,7 +37,8 @@ void add_run(CvResult& out, std::vector<double> residual) {
 double pooled_rmse(const std::vector<double>& run_sse, const std::vector<std::size_t>& run_n) {
   double sse = 0.0;
   std::size_t n = 0;
-  for (std::size_t r = 0; r < run_sse.size() && r < run_n.size(); ++r) sse += run_sse[r], n += run_n[r];
+  for (std::size_t r = 0; r < run_sse.size() && r < run_n.size(); ++r)
+    sse += run_sse[r], n += run_n[r];
   return n > 0 ? std::sqrt(sse / static_cast<double>(n)) : 0.0;
 }
 
@@ -51,14 +52,18 @@ void finish(CvResult& out) {
 }
 
 // The held-out run's residuals with its own eye (the within-eye channel).
-std::vector<double> own_eye_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params) {
+std::vector<double> own_eye_residuals(const Predictor& predictor, const PreparedRun& run,
+                                      const ModelParams& params) {
   Eigen::VectorXd beta;
-  if (predictor.linear_columns() > 0) Fitter::residuals(predictor, run, params, run.fit_rows, &beta);
+  if (predictor.linear_columns() > 0)
+    Fitter::residuals(predictor, run, params, run.fit_rows, &beta);
   const EyeParams eye = own_eye(predictor, run, params, beta);
   return held_out_residuals(predictor, run, params, &eye);
 }
 
-std::size_t block_of(std::size_t k, std::size_t n) { return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1)); }
+std::size_t block_of(std::size_t k, std::size_t n) {
+  return std::min<std::size_t>(kBlocks - 1, k * kBlocks / std::max<std::size_t>(n, 1));
+}
 
 // A run's offset steps are found on all its samples, with its phases (level_shifts.hpp). A
 // held-out block must be predicted without its own samples, and all the other blocks tell of
@@ -79,8 +84,9 @@ std::optional<PreparedRun> steps_blinded(const PreparedRun& run, double from_s, 
 
 // One time block of a run held out: the residuals of its samples (rows `test`, in order) for
 // a fit on the other blocks; per-run coefficients are those of the training blocks.
-void block_residuals(const Predictor& predictor, const PreparedRun& run, const PreparedRun& train, const ModelParams& params,
-                     const std::vector<std::size_t>& test, std::vector<double>& out) {
+void block_residuals(const Predictor& predictor, const PreparedRun& run, const PreparedRun& train,
+                     const ModelParams& params, const std::vector<std::size_t>& test,
+                     std::vector<double>& out) {
   Eigen::VectorXd beta;
   Fitter::residuals(predictor, train, params, train.fit_rows, &beta);
   std::vector<double> prediction;
@@ -133,15 +139,16 @@ CvResult within_run(const PreparedRun& run, const TrainedModelFor& model_for) {
 
 }  // namespace
 
-std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params,
-                                       const EyeParams* eye) {
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run,
+                                       const ModelParams& params, const EyeParams* eye) {
   std::vector<double> prediction;
   Eigen::MatrixXd Xall;
   const bool linear = predictor.linear_columns() > 0;
   predictor.evaluate(run, params, run.analysed, prediction, linear ? &Xall : nullptr, nullptr, eye);
   const std::size_t n = run.analysed.size();
   std::vector<double> residual(n);
-  for (std::size_t k = 0; k < n; ++k) residual[k] = run.data->force_N[run.analysed[k]] - prediction[k];
+  for (std::size_t k = 0; k < n; ++k)
+    residual[k] = run.data->force_N[run.analysed[k]] - prediction[k];
   if (!linear) return residual;
   const Eigen::Map<const Eigen::VectorXd> r(residual.data(), static_cast<Eigen::Index>(n));
   std::vector<double> out(n);
@@ -171,7 +178,8 @@ std::vector<double> held_out_residuals(const Predictor& predictor, const Prepare
   return out;
 }
 
-CvResult cross_validate(const std::vector<const PreparedRun*>& runs, const TrainedModelFor& model_for, int max_folds) {
+CvResult cross_validate(const std::vector<const PreparedRun*>& runs,
+                        const TrainedModelFor& model_for, int max_folds) {
   if (runs.size() == 1) return within_run(*runs.front(), model_for);
   CvResult out;
   const TrainedModel full = model_for(runs);

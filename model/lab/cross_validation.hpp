@@ -27,13 +27,15 @@ struct CvResult {
   std::vector<std::size_t> run_n;
   std::vector<double> run_rho;                 // lag-1 autocorrelation of the CV residuals
   std::vector<std::vector<double>> residuals;  // per run, over its analysed samples
-  double own_eye_rmse_N = 0.0;                 // the within-eye channel (multi-run CV only, else = rmse_N)
+  double own_eye_rmse_N = 0.0;  // the within-eye channel (multi-run CV only, else = rmse_N)
   std::vector<double> own_eye_run_sse;
   std::vector<double> own_eye_run_rho;
-  FitResult full;                              // the fit on all runs
-  std::vector<FitResult> folds;                // each fold's fit on its training runs
-  std::vector<std::string> full_forms;         // each term's form in the fit on all runs ("" if it has none)
-  std::vector<std::vector<std::string>> fold_forms;  // per fold: each term's form, chosen on its training runs
+  FitResult full;                // the fit on all runs
+  std::vector<FitResult> folds;  // each fold's fit on its training runs
+  std::vector<std::string>
+      full_forms;  // each term's form in the fit on all runs ("" if it has none)
+  std::vector<std::vector<std::string>>
+      fold_forms;  // per fold: each term's form, chosen on its training runs
 };
 
 // The model one fit uses (a fold's, or the one on all runs): a predictor whose effect
@@ -44,13 +46,15 @@ struct TrainedModel {
   ModelParams start;
   std::vector<std::string> forms;  // each term's form, in term order ("" if it has none)
 };
-using TrainedModelFor = std::function<TrainedModel(const std::vector<const PreparedRun*>& training_runs)>;
+using TrainedModelFor =
+    std::function<TrainedModel(const std::vector<const PreparedRun*>& training_runs)>;
 
-CvResult cross_validate(const std::vector<const PreparedRun*>& runs, const TrainedModelFor& model_for, int max_folds = 5);
+CvResult cross_validate(const std::vector<const PreparedRun*>& runs,
+                        const TrainedModelFor& model_for, int max_folds = 5);
 
 // Residuals of a held-out run: shared parameters given, per-run coefficients by blocked CV.
 // `eye` null: the population model (an unseen eye).
-std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& params,
-                                       const EyeParams* eye = nullptr);
+std::vector<double> held_out_residuals(const Predictor& predictor, const PreparedRun& run,
+                                       const ModelParams& params, const EyeParams* eye = nullptr);
 
 }  // namespace rig::model

@@ -20,9 +20,12 @@ namespace {
 constexpr double kSpan_s = 0.2;
 constexpr double kEdge_mm = 0.5;  // the start and the end of the insertion are left out
 
-bool steady(double x_mm, double max_depth_mm) { return x_mm > kEdge_mm && x_mm < max_depth_mm - kEdge_mm; }
+bool steady(double x_mm, double max_depth_mm) {
+  return x_mm > kEdge_mm && x_mm < max_depth_mm - kEdge_mm;
+}
 
-std::optional<double> median_held_velocity(const RunData& run, std::size_t deepest, double max_depth_mm) {
+std::optional<double> median_held_velocity(const RunData& run, std::size_t deepest,
+                                           double max_depth_mm) {
   std::vector<double> slopes;
   std::size_t j = 0;
   for (std::size_t i = 0; i <= deepest; ++i) {
@@ -64,11 +67,14 @@ CutSummary summarize_cut(const RunData& run, const ForceModel* model) {
       nq += 1;
     }
   }
-  const std::optional<double> held = median_held_velocity(run, static_cast<std::size_t>(deepest), out.max_depth_mm);
-  if (!held) throw std::invalid_argument(run.source + ": no insertion deeper than 1 mm that lasts 0.2 s");
+  const std::optional<double> held =
+      median_held_velocity(run, static_cast<std::size_t>(deepest), out.max_depth_mm);
+  if (!held)
+    throw std::invalid_argument(run.source + ": no insertion deeper than 1 mm that lasts 0.2 s");
   out.velocity_mm_s = *held;
   out.commanded_velocity_mm_s = run.number("velocity_mm_s").value_or(out.velocity_mm_s);
-  out.velocity_error_pct = 100.0 * (out.velocity_mm_s - out.commanded_velocity_mm_s) / out.commanded_velocity_mm_s;
+  out.velocity_error_pct =
+      100.0 * (out.velocity_mm_s - out.commanded_velocity_mm_s) / out.commanded_velocity_mm_s;
   if (nq > 0) out.model_rmse_N = std::sqrt(sq / nq);
   return out;
 }

@@ -47,10 +47,12 @@ constexpr double kCalibrationRuns = 9.0;
 
 double min_population_gain_pct(const std::string& candidate, std::size_t runs) {
   if (candidate.rfind("covariate:", 0) != 0) return kMinGainPct;
-  return std::max(kMinGainPct, kMinCovariateGainPct9 * kCalibrationRuns / static_cast<double>(std::max<std::size_t>(runs, 1)));
+  return std::max(kMinGainPct, kMinCovariateGainPct9 * kCalibrationRuns /
+                                   static_cast<double>(std::max<std::size_t>(runs, 1)));
 }
 
-std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv, const std::vector<const PreparedRun*>& runs) {
+std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv,
+                                             const std::vector<const PreparedRun*>& runs) {
   std::array<double, kPhaseCount> sse{};
   for (std::size_t r = 0; r < runs.size(); ++r) {
     for (std::size_t k = 0; k < runs[r]->analysed.size(); ++k) {
@@ -63,7 +65,8 @@ std::array<double, kPhaseCount> sse_by_phase(const CvResult& cv, const std::vect
 
 int parameter_count(const std::string& name, const EffectCatalogue& catalogue, std::size_t runs) {
   const auto term = catalogue.make(name);
-  return static_cast<int>(term->shared_params().size()) + term->linear_columns() * static_cast<int>(runs);
+  return static_cast<int>(term->shared_params().size()) +
+         term->linear_columns() * static_cast<int>(runs);
 }
 
 // One channel's significance test of a candidate against the baseline.
@@ -75,8 +78,9 @@ struct ChannelTest {
   bool passed = false;
 };
 
-ChannelTest test_channel(const std::vector<double>& base_sse, const std::vector<double>& sse, const std::vector<std::size_t>& n,
-                         const std::vector<double>& rho, int parameters, double min_gain_pct) {
+ChannelTest test_channel(const std::vector<double>& base_sse, const std::vector<double>& sse,
+                         const std::vector<std::size_t>& n, const std::vector<double>& rho,
+                         int parameters, double min_gain_pct) {
   ChannelTest t;
   std::size_t improved = 0;
   double sse_base = 0.0, sse_cand = 0.0;
@@ -87,10 +91,13 @@ ChannelTest test_channel(const std::vector<double>& base_sse, const std::vector<
     t.n_effective += static_cast<double>(n[r]) * (1.0 - rho[r]) / (1.0 + rho[r]);
   }
   t.gain_pct = sse_base > 0.0 ? 100.0 * (1.0 - std::sqrt(sse_cand / sse_base)) : 0.0;
-  t.runs_improved = sse.empty() ? 0.0 : static_cast<double>(improved) / static_cast<double>(sse.size());
+  t.runs_improved =
+      sse.empty() ? 0.0 : static_cast<double>(improved) / static_cast<double>(sse.size());
   const double n_eff = std::max(t.n_effective, 2.0);
-  t.delta_bic = n_eff * std::log(std::max(sse_cand, 1e-300) / std::max(sse_base, 1e-300)) + parameters * std::log(n_eff);
-  t.passed = t.gain_pct >= min_gain_pct && t.runs_improved >= kMinRunsImproved && t.delta_bic < kMaxDeltaBic;
+  t.delta_bic = n_eff * std::log(std::max(sse_cand, 1e-300) / std::max(sse_base, 1e-300)) +
+                parameters * std::log(n_eff);
+  t.passed = t.gain_pct >= min_gain_pct && t.runs_improved >= kMinRunsImproved &&
+             t.delta_bic < kMaxDeltaBic;
   return t;
 }
 
@@ -98,19 +105,25 @@ ChannelTest test_channel(const std::vector<double>& base_sse, const std::vector<
 // whole runs, the within-eye one effects with a shape inside the run).
 void score(CandidateResult& c, const CvResult& base, const CvResult& cv, int parameters) {
   const ChannelTest population =
-      test_channel(base.run_sse, cv.run_sse, cv.run_n, cv.run_rho, parameters, min_population_gain_pct(c.effect, cv.run_sse.size()));
-  const ChannelTest own = test_channel(base.own_eye_run_sse, cv.own_eye_run_sse, cv.run_n, cv.own_eye_run_rho, parameters, kMinOwnEyeGainPct);
+      test_channel(base.run_sse, cv.run_sse, cv.run_n, cv.run_rho, parameters,
+                   min_population_gain_pct(c.effect, cv.run_sse.size()));
+  const ChannelTest own = test_channel(base.own_eye_run_sse, cv.own_eye_run_sse, cv.run_n,
+                                       cv.own_eye_run_rho, parameters, kMinOwnEyeGainPct);
   c.cv_rmse_N = cv.rmse_N;
   c.gain_pct = population.gain_pct;
   c.runs_improved = population.runs_improved;
   c.own_eye_cv_rmse_N = cv.own_eye_rmse_N;
   c.own_eye_gain_pct = own.gain_pct;
   c.own_eye_runs_improved = own.runs_improved;
-  const ChannelTest& shown = own.passed && (!population.passed || own.gain_pct > population.gain_pct) ? own : population;
+  const ChannelTest& shown =
+      own.passed && (!population.passed || own.gain_pct > population.gain_pct) ? own : population;
   c.delta_bic = shown.delta_bic;
   c.n_effective = shown.n_effective;
   c.significant = population.passed || own.passed;
-  c.channel = population.passed && own.passed ? "both" : population.passed ? "population" : own.passed ? "own eye" : "";
+  c.channel = population.passed && own.passed ? "both"
+              : population.passed             ? "population"
+              : own.passed                    ? "own eye"
+                                              : "";
   // Ties between candidates are broken against one that makes the other channel worse (at
   // most kOtherChannelPenaltyPct): a term that fits shapes within eyes while it predicts
   // unseen eyes worse is less likely the cause than one that does both (draw 70046).
@@ -139,12 +152,14 @@ struct Evaluated {
   ResidualStructure remaining;  // where its CV residuals still stand above its floor
 };
 
-Evaluated evaluate(const std::string& name, const ForceModel& model, const EffectCatalogue& catalogue,
-                   const DiagnoseOptions& o, const std::vector<const PreparedRun*>& runs, const CvResult& base) {
+Evaluated evaluate(const std::string& name, const ForceModel& model,
+                   const EffectCatalogue& catalogue, const DiagnoseOptions& o,
+                   const std::vector<const PreparedRun*>& runs, const CvResult& base) {
   Evaluated out;
   CandidateResult& c = out.result;
   c.effect = name;
-  if (!catalogue.make(name)->applicable(runs, c.not_applicable) || !sampling_allows(name, runs, c.not_applicable)) {
+  if (!catalogue.make(name)->applicable(runs, c.not_applicable) ||
+      !sampling_allows(name, runs, c.not_applicable)) {
     c.applicable = false;
     return out;
   }
@@ -155,7 +170,8 @@ Evaluated evaluate(const std::string& name, const ForceModel& model, const Effec
   score(c, base, cv, parameter_count(name, catalogue, runs.size()));
   out.floor = floor_of(family, cv.full, runs);
   c.floor_N = out.floor.total_N;
-  c.explained_pct = base.rmse_N > c.floor_N ? 100.0 * (base.rmse_N - cv.rmse_N) / (base.rmse_N - c.floor_N) : 0.0;
+  c.explained_pct =
+      base.rmse_N > c.floor_N ? 100.0 * (base.rmse_N - cv.rmse_N) / (base.rmse_N - c.floor_N) : 0.0;
   c.converged = cv.full.converged;
   c.left_start = term_left_start(cv.full);
   out.remaining = locate_excess(runs, cv.residuals, c.floor_N, covariate_keys(catalogue));
@@ -167,10 +183,13 @@ Evaluated evaluate(const std::string& name, const ForceModel& model, const Effec
   }
   c.where = phase_name(static_cast<Phase>(best));
   char numbers[200];
-  std::snprintf(numbers, sizeof numbers, " [CV RMSE %.4f -> %.4f N (%+.1f %%), most in the %s phase, %.0f %% of runs better]",
-                base.rmse_N, cv.rmse_N, -c.gain_pct, c.where.c_str(), 100.0 * c.runs_improved);
+  std::snprintf(
+      numbers, sizeof numbers,
+      " [CV RMSE %.4f -> %.4f N (%+.1f %%), most in the %s phase, %.0f %% of runs better]",
+      base.rmse_N, cv.rmse_N, -c.gain_pct, c.where.c_str(), 100.0 * c.runs_improved);
   c.evidence = family.evidence(name, cv.full, runs) + numbers;
-  if (!family.identifiable(name, cv.full, runs, c.not_applicable)) c.applicable = false;  // never a verdict nor a partial one
+  if (!family.identifiable(name, cv.full, runs, c.not_applicable))
+    c.applicable = false;  // never a verdict nor a partial one
   return out;
 }
 
@@ -191,8 +210,11 @@ double noise_floor(const std::vector<const PreparedRun*>& runs) {
 namespace {
 
 void warn_about_fit(Diagnosis& d, const std::string& what, const CandidateResult& c) {
-  if (!c.converged) d.warnings.push_back(what + " " + c.effect + ": its fit did not converge; its figures are those where it stopped");
-  if (!c.left_start) d.warnings.push_back(what + " " + c.effect + ": its parameters never left their start values");
+  if (!c.converged)
+    d.warnings.push_back(what + " " + c.effect +
+                         ": its fit did not converge; its figures are those where it stopped");
+  if (!c.left_start)
+    d.warnings.push_back(what + " " + c.effect + ": its parameters never left their start values");
 }
 
 // Close to the floor on a channel: at most kCloseShare of the baseline's excess left, or
@@ -203,7 +225,8 @@ bool close_to(double base, double after, double floor, double well_above) {
 
 bool close_on_its_channel(const Diagnosis& d, const CandidateResult& c) {
   const bool population = close_to(d.baseline_cv_rmse_N, c.cv_rmse_N, c.floor_N, kWellAbove);
-  const bool own = close_to(d.baseline_own_eye_cv_rmse_N, c.own_eye_cv_rmse_N, d.floor.measurement_N, kOwnEyeWellAbove);
+  const bool own = close_to(d.baseline_own_eye_cv_rmse_N, c.own_eye_cv_rmse_N,
+                            d.floor.measurement_N, kOwnEyeWellAbove);
   if (c.channel == "population") return population;
   if (c.channel == "own eye") return own;
   return population || own;
@@ -216,21 +239,27 @@ void name_effect(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Ca
   }
   d.noise_floor_N = d.floor.total_N;
   warn_about_fit(d, "verdict", c);
-  if (c.cv_rmse_N > kWellAbove * c.floor_N || c.own_eye_cv_rmse_N > kOwnEyeWellAbove * d.floor.measurement_N) {
+  if (c.cv_rmse_N > kWellAbove * c.floor_N ||
+      c.own_eye_cv_rmse_N > kOwnEyeWellAbove * d.floor.measurement_N) {
     char text[240];
-    std::snprintf(text, sizeof text, "with %s the CV error is still %.1fx its floor (%.1fx the measurement noise within eyes): diagnose again --with %s for the next effect",
-                  c.effect.c_str(), c.cv_rmse_N / c.floor_N, c.own_eye_cv_rmse_N / d.floor.measurement_N, c.effect.c_str());
+    std::snprintf(text, sizeof text,
+                  "with %s the CV error is still %.1fx its floor (%.1fx the measurement noise "
+                  "within eyes): diagnose again --with %s for the next effect",
+                  c.effect.c_str(), c.cv_rmse_N / c.floor_N,
+                  c.own_eye_cv_rmse_N / d.floor.measurement_N, c.effect.c_str());
     d.warnings.push_back(text);
   }
 }
 
 // The baseline's errors and floor, as the floor warnings read them (eye_confounds.hpp).
 FloorReading baseline_reading(const Diagnosis& d) {
-  return {d.baseline_cv_rmse_N, d.baseline_own_eye_cv_rmse_N, d.noise_floor_N, d.floor.measurement_N, d.floor.eye_variation_N};
+  return {d.baseline_cv_rmse_N, d.baseline_own_eye_cv_rmse_N, d.noise_floor_N,
+          d.floor.measurement_N, d.floor.eye_variation_N};
 }
 
 // none | EFFECT | unexplained, from the ranked candidates (see diagnosis.hpp).
-void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const ResidualStructure& baseline_structure, std::size_t eyes) {
+void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated,
+            const ResidualStructure& baseline_structure, std::size_t eyes) {
   const CandidateResult* significant = nullptr;
   for (const CandidateResult& c : d.candidates) {
     if (c.applicable && c.significant) {
@@ -253,28 +282,34 @@ void decide(Diagnosis& d, const std::vector<Evaluated>& evaluated, const Residua
   if (near_floor) return;  // "none": nothing stands above the floor
   d.verdict = "unexplained";
   d.unexplained_where = baseline_structure;
-  if (auto w = uncertain_floor_warning(baseline_reading(d), eyes, kWellAbove, kOwnEyeWellAbove)) d.warnings.push_back(std::move(*w));
-  if (!d.candidates.empty() && d.candidates.front().applicable && d.candidates.front().gain_pct > 0.0) {
+  if (auto w = uncertain_floor_warning(baseline_reading(d), eyes, kWellAbove, kOwnEyeWellAbove))
+    d.warnings.push_back(std::move(*w));
+  if (!d.candidates.empty() && d.candidates.front().applicable &&
+      d.candidates.front().gain_pct > 0.0) {
     d.partial_candidate = d.candidates.front().effect;
   }
 }
 
-std::vector<Evaluated> evaluate_all(const std::vector<std::string>& names, const ForceModel& model, const EffectCatalogue& catalogue,
-                                    const DiagnoseOptions& o, const std::vector<const PreparedRun*>& runs, const CvResult& base) {
+std::vector<Evaluated> evaluate_all(const std::vector<std::string>& names, const ForceModel& model,
+                                    const EffectCatalogue& catalogue, const DiagnoseOptions& o,
+                                    const std::vector<const PreparedRun*>& runs,
+                                    const CvResult& base) {
   // Each worker takes the next candidate as soon as it is free: candidates differ in cost by
   // 10x, and waiting for them in order left a core idle for a third of a diagnosis.
   std::vector<Evaluated> out(names.size());
   std::atomic<std::size_t> next{0};
   auto work = [&] {
     try {
-      for (std::size_t i = next++; i < names.size(); i = next++) out[i] = evaluate(names[i], model, catalogue, o, runs, base);
+      for (std::size_t i = next++; i < names.size(); i = next++)
+        out[i] = evaluate(names[i], model, catalogue, o, runs, base);
     } catch (...) {
       next = names.size();  // the others stop after their current candidate
       throw;
     }
   };
   std::vector<std::future<void>> workers;
-  const std::size_t threads = std::min<std::size_t>(static_cast<std::size_t>(std::max(o.threads, 1)), names.size());
+  const std::size_t threads =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(o.threads, 1)), names.size());
   for (std::size_t t = 0; t < threads; ++t) workers.push_back(std::async(std::launch::async, work));
   for (auto& w : workers) w.get();  // rethrows a candidate's exception, after every worker stopped
   return out;
@@ -282,7 +317,8 @@ std::vector<Evaluated> evaluate_all(const std::vector<std::string>& names, const
 
 }  // namespace
 
-NoiseFloor floor_of(const ModelFamily& family, const FitResult& full, const std::vector<const PreparedRun*>& runs) {
+NoiseFloor floor_of(const ModelFamily& family, const FitResult& full,
+                    const std::vector<const PreparedRun*>& runs) {
   NoiseFloor f;
   f.measurement_N = noise_floor(runs);
   f.eye_spread = full.eye_spread;
@@ -292,7 +328,8 @@ NoiseFloor floor_of(const ModelFamily& family, const FitResult& full, const std:
   return f;
 }
 
-Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, const DiagnoseOptions& o) {
+Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data,
+                   const DiagnoseOptions& o) {
   Diagnosis d;
   std::vector<PreparedRun> prepared;
   prepared.reserve(data.size());
@@ -320,24 +357,31 @@ Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& data, co
   d.baseline_own_eye_cv_rmse_N = base.own_eye_rmse_N;
   d.floor = floor_of(base_family, base.full, runs);
   d.noise_floor_N = d.floor.total_N;
-  if (!base.full.converged) d.warnings.push_back("the baseline fit did not converge; its figures are those where it stopped");
-  for (std::string& w : eye_confound_warnings(runs, base.full.eyes, covariate_keys(catalogue))) d.warnings.push_back(std::move(w));
+  if (!base.full.converged)
+    d.warnings.push_back(
+        "the baseline fit did not converge; its figures are those where it stopped");
+  for (std::string& w : eye_confound_warnings(runs, base.full.eyes, covariate_keys(catalogue)))
+    d.warnings.push_back(std::move(w));
   if (auto w = inflated_floor_warning(baseline_reading(d))) d.warnings.push_back(std::move(*w));
   std::vector<std::string> names;
   const std::set<std::string> present(d.base_effects.begin(), d.base_effects.end());
   for (const std::string& name : catalogue.candidates()) {
-    const bool wanted = o.only.empty() || std::find(o.only.begin(), o.only.end(), name) != o.only.end();
+    const bool wanted =
+        o.only.empty() || std::find(o.only.begin(), o.only.end(), name) != o.only.end();
     if (present.count(name) == 0U && wanted) names.push_back(name);
   }
   const std::vector<Evaluated> evaluated = evaluate_all(names, model, catalogue, o, runs, base);
   for (const Evaluated& e : evaluated) d.candidates.push_back(e.result);
-  std::stable_sort(d.candidates.begin(), d.candidates.end(), [](const CandidateResult& a, const CandidateResult& b) {
-    if (a.applicable != b.applicable) return a.applicable;
-    if (a.significant != b.significant) return a.significant;
-    if (a.significant) return a.rank_gain_pct > b.rank_gain_pct;
-    return a.cv_rmse_N < b.cv_rmse_N;
-  });
-  decide(d, evaluated, locate_excess(runs, base.residuals, d.noise_floor_N, covariate_keys(catalogue)), runs.size());
+  std::stable_sort(d.candidates.begin(), d.candidates.end(),
+                   [](const CandidateResult& a, const CandidateResult& b) {
+                     if (a.applicable != b.applicable) return a.applicable;
+                     if (a.significant != b.significant) return a.significant;
+                     if (a.significant) return a.rank_gain_pct > b.rank_gain_pct;
+                     return a.cv_rmse_N < b.cv_rmse_N;
+                   });
+  decide(d, evaluated,
+         locate_excess(runs, base.residuals, d.noise_floor_N, covariate_keys(catalogue)),
+         runs.size());
   return d;
 }
 

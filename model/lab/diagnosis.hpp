@@ -35,7 +35,8 @@ struct CandidateResult {
   double own_eye_gain_pct = 0.0;
   double own_eye_runs_improved = 0.0;
   std::string channel;         // where it is significant: population | own eye | both | ""
-  double rank_gain_pct = 0.0;  // its gain on the channel it is significant in (the larger), less up to 10 points the other channel lost; ranks significant ones
+  double rank_gain_pct = 0.0;  // its gain on the channel it is significant in (the larger), less up
+                               // to 10 points the other channel lost; ranks significant ones
   double delta_bic = 0.0;      // with the effective sample count; < 0 favours the candidate
   double n_effective = 0.0;
   bool significant = false;
@@ -44,13 +45,13 @@ struct CandidateResult {
   bool converged = true;       // its fit on all runs converged
   bool left_start = true;      // its fit moved from the start values
   std::string evidence;
-  std::string where;           // phase where the error fell most
+  std::string where;  // phase where the error fell most
 };
 
 // The floor of a model family on a run set: sqrt(measurement^2 + eye variation^2).
 struct NoiseFloor {
   double total_N = 0.0;
-  double measurement_N = 0.0;  // white noise of the force channel (MAD of second differences)
+  double measurement_N = 0.0;    // white noise of the force channel (MAD of second differences)
   double eye_variation_N = 0.0;  // RMS that unseen eyes' scale and puncture shift add
   EyeSpread eye_spread;          // population SDs of the eye parameters
 };
@@ -63,11 +64,11 @@ struct Diagnosis {
   // variation to the baseline and inflates its floor).
   double noise_floor_N = 0.0;
   NoiseFloor floor;
-  std::vector<std::string> base_effects;     // already in the model
-  std::vector<CandidateResult> candidates;   // best first; inapplicable ones last
-  std::string verdict = "none";              // none | EFFECT | covariate:KEY | unexplained
-  std::string partial_candidate;             // with "unexplained": the best candidate, if any helps
-  ResidualStructure unexplained_where;       // with "unexplained": where the excess lies
+  std::vector<std::string> base_effects;    // already in the model
+  std::vector<CandidateResult> candidates;  // best first; inapplicable ones last
+  std::string verdict = "none";             // none | EFFECT | covariate:KEY | unexplained
+  std::string partial_candidate;            // with "unexplained": the best candidate, if any helps
+  ResidualStructure unexplained_where;      // with "unexplained": where the excess lies
   std::vector<std::string> warnings;
 };
 
@@ -77,13 +78,15 @@ struct DiagnoseOptions {
   int threads = 2;
 };
 
-Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& runs, const DiagnoseOptions& options = {});
+Diagnosis diagnose(const ForceModel& model, const std::vector<RunData>& runs,
+                   const DiagnoseOptions& options = {});
 
 // Pooled white-noise level of the force channel over the runs' analysed samples [N].
 double noise_floor(const std::vector<const PreparedRun*>& runs);
 
 class ModelFamily;
 // The floor of a fitted family: measurement noise and what its eye spread adds.
-NoiseFloor floor_of(const ModelFamily& family, const FitResult& full, const std::vector<const PreparedRun*>& runs);
+NoiseFloor floor_of(const ModelFamily& family, const FitResult& full,
+                    const std::vector<const PreparedRun*>& runs);
 
 }  // namespace rig::model

@@ -27,10 +27,23 @@ namespace {
 
 // Keys that are bookkeeping or inputs the model already uses: never covariates.
 bool excluded_key(const std::string& key) {
-  static const std::set<std::string> kExcluded = {
-      "iop_mmHg", "velocity_mm_s", "depth_mm", "hold_s", "run_id", "original_run_id", "config_hash",
-      "software_version", "started_at", "outcome", "reason", "source", "rate_hz", "surface_mm",
-      "iop_meas_mmHg", "velocity_meas_mm_s", "displacement_scale"};
+  static const std::set<std::string> kExcluded = {"iop_mmHg",
+                                                  "velocity_mm_s",
+                                                  "depth_mm",
+                                                  "hold_s",
+                                                  "run_id",
+                                                  "original_run_id",
+                                                  "config_hash",
+                                                  "software_version",
+                                                  "started_at",
+                                                  "outcome",
+                                                  "reason",
+                                                  "source",
+                                                  "rate_hz",
+                                                  "surface_mm",
+                                                  "iop_meas_mmHg",
+                                                  "velocity_meas_mm_s",
+                                                  "displacement_scale"};
   if (kExcluded.count(key) != 0U) return true;
   if (key.size() > 3 && key.compare(key.size() - 3, 3, "_id") == 0) return true;
   return key.find("_cmd_") != std::string::npos;  // the rig's own commands (motor_cmd_V)
@@ -47,13 +60,16 @@ std::vector<std::string> candidate_keys(const std::vector<const PreparedRun*>& r
   }
   std::vector<std::string> out;
   for (const auto& k : keys) {
-    const bool everywhere = std::all_of(runs.begin(), runs.end(), [&](const PreparedRun* r) { return r->covariate(k, 0).has_value(); });
+    const bool everywhere = std::all_of(runs.begin(), runs.end(), [&](const PreparedRun* r) {
+      return r->covariate(k, 0).has_value();
+    });
     if (everywhere && !excluded_key(k)) out.push_back(k);
   }
   return out;
 }
 
-effects::CovariateRange covariate_stats(const std::string& key, const std::vector<const PreparedRun*>& runs) {
+effects::CovariateRange covariate_stats(const std::string& key,
+                                        const std::vector<const PreparedRun*>& runs) {
   effects::CovariateRange out;
   out.low = std::numeric_limits<double>::infinity();
   out.high = -out.low;
@@ -84,35 +100,41 @@ effects::CovariateRange covariate_stats(const std::string& key, const std::vecto
 
 const std::vector<std::string>& EffectCatalogue::builtin_names() {
   static const std::vector<std::string> kNames = {
-      "rate_dependence", "iop_stiffness", "shaft_friction", "rig_compliance", "sensor_drift",
-      "spatial_ripple", "mains_interference", "stick_slip", "stress_relaxation"};
+      "rate_dependence", "iop_stiffness",      "shaft_friction", "rig_compliance",   "sensor_drift",
+      "spatial_ripple",  "mains_interference", "stick_slip",     "stress_relaxation"};
   return kNames;
 }
 
-EffectCatalogue::EffectCatalogue(const ForceModel& model, const std::vector<const PreparedRun*>& runs) : model_(&model), runs_(runs) {
+EffectCatalogue::EffectCatalogue(const ForceModel& model,
+                                 const std::vector<const PreparedRun*>& runs)
+    : model_(&model), runs_(runs) {
   covariates_ = candidate_keys(runs);
   for (const auto& key : covariates_) covariate_stats_.push_back(covariate_stats(key, runs));
 }
 
-std::shared_ptr<EffectCatalogue> EffectCatalogue::with_settings_on(const std::vector<const PreparedRun*>& subset) const {
+std::shared_ptr<EffectCatalogue> EffectCatalogue::with_settings_on(
+    const std::vector<const PreparedRun*>& subset) const {
   auto out = std::make_shared<EffectCatalogue>(*model_, subset);
   out->with_ = with_;
   out->select_forms_ = select_forms_;
   return out;
 }
 
-std::shared_ptr<const EffectCatalogue> EffectCatalogue::on_runs(const std::vector<const PreparedRun*>& subset) const {
+std::shared_ptr<const EffectCatalogue> EffectCatalogue::on_runs(
+    const std::vector<const PreparedRun*>& subset) const {
   std::vector<bool> member(runs_.size(), false);
   std::size_t next = 0;  // the subset must list our runs in our order to share their choices
   for (const PreparedRun* run : subset) {
     const auto at = std::find(runs_.begin() + static_cast<std::ptrdiff_t>(next), runs_.end(), run);
-    if (at == runs_.end()) return with_settings_on(subset);  // not our runs, or reordered: nothing to share
+    if (at == runs_.end())
+      return with_settings_on(subset);  // not our runs, or reordered: nothing to share
     next = static_cast<std::size_t>(at - runs_.begin()) + 1;
     member[next - 1] = true;
   }
   const std::lock_guard<std::mutex> lock(cache_->mutex);
   auto& cached = cache_->on_subsets[member];
-  if (!cached) cached = with_settings_on(subset);  // cheap: the forms are chosen when first asked for
+  if (!cached)
+    cached = with_settings_on(subset);  // cheap: the forms are chosen when first asked for
   return cached;
 }
 
@@ -126,19 +148,29 @@ std::vector<std::string> EffectCatalogue::candidates() const {
 std::unique_ptr<EffectTerm> EffectCatalogue::make_in_form(const std::string& name, int form) const {
   using namespace effects;
   auto in = [form](int fallback) { return form < 0 ? fallback : form; };
-  if (name == "rate_dependence") return std::make_unique<RateDependence>(model_->reference_velocity_mm_s, in(RateDependence::kLogQuadratic));
-  if (name == "iop_stiffness") return std::make_unique<IopStiffness>(in(IopStiffness::kExponentialQuadratic));
-  if (name == "shaft_friction") return std::make_unique<ShaftFriction>(in(ShaftFriction::kSaturating));
-  if (name == "rig_compliance") return std::make_unique<RigCompliance>(in(RigCompliance::kPolynomial));
+  if (name == "rate_dependence")
+    return std::make_unique<RateDependence>(model_->reference_velocity_mm_s,
+                                            in(RateDependence::kLogQuadratic));
+  if (name == "iop_stiffness")
+    return std::make_unique<IopStiffness>(in(IopStiffness::kExponentialQuadratic));
+  if (name == "shaft_friction")
+    return std::make_unique<ShaftFriction>(in(ShaftFriction::kSaturating));
+  if (name == "rig_compliance")
+    return std::make_unique<RigCompliance>(in(RigCompliance::kPolynomial));
   if (name == "sensor_drift") return std::make_unique<SensorDrift>(in(SensorDrift::kPolynomial));
-  if (name == "spatial_ripple") return std::make_unique<SpatialRipple>(in(SpatialRipple::kThreeHarmonics));
-  if (name == "mains_interference") return std::make_unique<MainsInterference>(in(MainsInterference::kHarmonics));
+  if (name == "spatial_ripple")
+    return std::make_unique<SpatialRipple>(in(SpatialRipple::kThreeHarmonics));
+  if (name == "mains_interference")
+    return std::make_unique<MainsInterference>(in(MainsInterference::kHarmonics));
   if (name == "stick_slip") return std::make_unique<StickSlip>(in(StickSlip::kThreeHarmonics));
-  if (name == "stress_relaxation") return std::make_unique<StressRelaxation>(in(StressRelaxation::kStretched));
+  if (name == "stress_relaxation")
+    return std::make_unique<StressRelaxation>(in(StressRelaxation::kStretched));
   if (name.rfind("covariate:", 0) == 0) {
     const std::string key = name.substr(10);
     const auto at = std::find(covariates_.begin(), covariates_.end(), key);
-    if (at == covariates_.end()) throw std::invalid_argument("effect '" + name + "': no numeric covariate '" + key + "' in every run");
+    if (at == covariates_.end())
+      throw std::invalid_argument("effect '" + name + "': no numeric covariate '" + key +
+                                  "' in every run");
     CovariateRange range = covariate_stats_[static_cast<std::size_t>(at - covariates_.begin())];
     if (range.spread <= 0.0) range.spread = 1.0;
     return std::make_unique<CovariateScaling>(key, range, in(CovariateScaling::kPerPhase));
@@ -153,24 +185,29 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_in_form(const std::string& nam
   std::string known;
   for (const auto& n : candidates()) known += (known.empty() ? "" : ", ") + n;
   for (const UserTerm& term : model_->user_terms) known += ", user:" + term.name;
-  if (name.rfind("user:", 0) == 0) known += "; user terms come from the model file's [terms] or --terms FILE";
+  if (name.rfind("user:", 0) == 0)
+    known += "; user terms come from the model file's [terms] or --terms FILE";
   throw std::invalid_argument("unknown effect '" + name + "' (known: " + known + ")");
 }
 
 std::unique_ptr<EffectTerm> EffectCatalogue::make(const std::string& name) const {
   auto term = make_in_form(name, -1);
   std::string why_not;
-  if (!select_forms_ || term->forms().size() < 2 || runs_.empty() || !term->applicable(runs_, why_not)) return term;
+  if (!select_forms_ || term->forms().size() < 2 || runs_.empty() ||
+      !term->applicable(runs_, why_not))
+    return term;
   return selected(name);
 }
 
-std::unique_ptr<EffectTerm> EffectCatalogue::make_form(const std::string& name, const std::string& form) const {
+std::unique_ptr<EffectTerm> EffectCatalogue::make_form(const std::string& name,
+                                                       const std::string& form) const {
   const auto forms = make_in_form(name, -1)->forms();
   const int index = effects::form_named(forms, form);
   if (index < 0) {
     std::string known;
     for (const auto& f : forms) known += (known.empty() ? "" : ", ") + f;
-    throw std::invalid_argument("effect '" + name + "': unknown form '" + form + "' (known: " + (known.empty() ? "none" : known) + ")");
+    throw std::invalid_argument("effect '" + name + "': unknown form '" + form +
+                                "' (known: " + (known.empty() ? "none" : known) + ")");
   }
   return make_in_form(name, index);
 }
@@ -178,7 +215,8 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_form(const std::string& name, 
 std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) const {
   auto with_note = [&](int form, const std::string& note) {
     auto term = make_in_form(name, form);
-    if (auto* family = dynamic_cast<effects::FamilyTerm*>(term.get())) family->set_selection_note(note);
+    if (auto* family = dynamic_cast<effects::FamilyTerm*>(term.get()))
+      family->set_selection_note(note);
     return term;
   };
   {
@@ -191,7 +229,8 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
   std::vector<std::unique_ptr<EffectTerm>> with_terms;
   effects::FormSelectionInput in;
   in.model = model_;
-  for (const SavedEffect& saved : base) in.base_terms.push_back(saved.term.get()), in.base_params.push_back(saved.params);
+  for (const SavedEffect& saved : base)
+    in.base_terms.push_back(saved.term.get()), in.base_params.push_back(saved.params);
   for (const std::string& w : with_) {
     if (w == name) continue;
     // The accepted effects in the form already chosen for them, else their default form:
@@ -204,7 +243,8 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
     }
     with_terms.push_back(make_in_form(w, form));
     in.base_terms.push_back(with_terms.back().get());
-    in.base_params.push_back(Predictor(*model_, {with_terms.back().get()}).initial_params().shared.front());
+    in.base_params.push_back(
+        Predictor(*model_, {with_terms.back().get()}).initial_params().shared.front());
   }
   in.runs = runs_;
   in.forms = static_cast<int>(make_in_form(name, -1)->forms().size());
@@ -214,9 +254,13 @@ std::unique_ptr<EffectTerm> EffectCatalogue::selected(const std::string& name) c
   const bool accepted = std::find(with_.begin(), with_.end(), name) != with_.end();
   std::shared_ptr<const effects::SelectionBaseline> baseline;
   if (accepted) {
-    baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in));
+    baseline =
+        std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in));
   } else {
-    std::call_once(cache_->baseline_once, [&] { cache_->baseline = std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in)); });
+    std::call_once(cache_->baseline_once, [&] {
+      cache_->baseline =
+          std::make_shared<const effects::SelectionBaseline>(effects::fit_selection_baseline(in));
+    });
     baseline = cache_->baseline;
   }
   const effects::FormChoice choice = effects::select_form(in, *baseline);
@@ -230,23 +274,27 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& set
   const auto spread = setting.params.find("spread");
   const auto low = setting.params.find("low");
   const auto high = setting.params.find("high");
-  const bool saved_covariate = setting.name.rfind("covariate:", 0) == 0 && mean != setting.params.end() && spread != setting.params.end();
+  const bool saved_covariate = setting.name.rfind("covariate:", 0) == 0 &&
+                               mean != setting.params.end() && spread != setting.params.end();
   auto build = [&](int form) -> std::unique_ptr<EffectTerm> {
     // A covariate term keeps the centre and scale it was fitted with.
     if (saved_covariate) {
       effects::CovariateRange range;
       range.mean = mean->second;
       range.spread = spread->second;
-      if (low != setting.params.end()) range.low = low->second;  // files before 2026-11-28 have none
+      if (low != setting.params.end())
+        range.low = low->second;  // files before 2026-11-28 have none
       if (high != setting.params.end()) range.high = high->second;
       // From a file a person may have edited: a range the term cannot hold to is an error
       // naming the effect, not a division by zero or an inverted clamp.
       if (!(range.spread > 0.0) || !(range.low <= range.high)) {
-        throw std::invalid_argument("effect '" + setting.name + "': needs spread > 0 and low <= high (spread " + std::to_string(range.spread) +
-                                    ", low " + std::to_string(range.low) + ", high " + std::to_string(range.high) + ")");
+        throw std::invalid_argument(
+            "effect '" + setting.name + "': needs spread > 0 and low <= high (spread " +
+            std::to_string(range.spread) + ", low " + std::to_string(range.low) + ", high " +
+            std::to_string(range.high) + ")");
       }
-      return std::make_unique<effects::CovariateScaling>(setting.name.substr(10), range,
-                                                         form < 0 ? effects::CovariateScaling::kPerPhase : form);
+      return std::make_unique<effects::CovariateScaling>(
+          setting.name.substr(10), range, form < 0 ? effects::CovariateScaling::kPerPhase : form);
     }
     return make_in_form(setting.name, form);
   };
@@ -255,7 +303,9 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& set
   std::size_t best_names = 0;
   for (int f = 0; f < static_cast<int>(term->forms().size()); ++f) {
     const auto specs = build(f)->shared_params();
-    const bool all_present = std::all_of(specs.begin(), specs.end(), [&](const ParamSpec& s) { return setting.params.count(s.name) != 0U; });
+    const bool all_present = std::all_of(specs.begin(), specs.end(), [&](const ParamSpec& s) {
+      return setting.params.count(s.name) != 0U;
+    });
     if (all_present && (best < 0 || specs.size() > best_names)) best = f, best_names = specs.size();
   }
   return best < 0 ? std::move(term) : build(best);

@@ -51,7 +51,8 @@ class EffectCatalogue {
   // `subset` only. Cached per subset of this catalogue's own runs, so the baseline and every
   // candidate of a diagnosis share a fold's choices; runs not among them (a run's time
   // blocks) get a fresh, uncached catalogue.
-  std::shared_ptr<const EffectCatalogue> on_runs(const std::vector<const PreparedRun*>& subset) const;
+  std::shared_ptr<const EffectCatalogue> on_runs(
+      const std::vector<const PreparedRun*>& subset) const;
 
  private:
   std::unique_ptr<EffectTerm> make_in_form(const std::string& name, int form) const;  // -1: default
@@ -61,17 +62,20 @@ class EffectCatalogue {
     std::mutex mutex;
     std::once_flag baseline_once;
     std::shared_ptr<const effects::SelectionBaseline> baseline;  // fitted once for all families
-    std::map<std::string, std::pair<int, std::string>> chosen;  // name -> form, note
-    std::map<std::vector<bool>, std::shared_ptr<const EffectCatalogue>> on_subsets;  // key: which of runs_ are in it
+    std::map<std::string, std::pair<int, std::string>> chosen;   // name -> form, note
+    std::map<std::vector<bool>, std::shared_ptr<const EffectCatalogue>>
+        on_subsets;  // key: which of runs_ are in it
   };
-  std::shared_ptr<EffectCatalogue> with_settings_on(const std::vector<const PreparedRun*>& subset) const;
+  std::shared_ptr<EffectCatalogue> with_settings_on(
+      const std::vector<const PreparedRun*>& subset) const;
   const ForceModel* model_;
   std::vector<const PreparedRun*> runs_;
   std::vector<std::string> with_;
   bool select_forms_ = true;
   std::shared_ptr<SelectionCache> cache_ = std::make_shared<SelectionCache>();
   std::vector<std::string> covariates_;
-  std::vector<effects::CovariateRange> covariate_stats_;  // mean, spread across runs; the values seen
+  std::vector<effects::CovariateRange>
+      covariate_stats_;  // mean, spread across runs; the values seen
 };
 
 // The model's own added effects (from its file) with their saved parameters.

@@ -28,15 +28,16 @@ struct SampleView {
   std::size_t i = 0;
   double x_mm = 0.0;
   double t_s = 0.0;
-  double force_N = 0.0;       // measured
+  double force_N = 0.0;  // measured
   double velocity_mm_s = 0.0;
   double hold_s = 0.0;
-  double inserted_mm = 0.0;      // blade length past the model's puncture depth
+  double inserted_mm = 0.0;        // blade length past the model's puncture depth
   Phase phase = Phase::kApproach;  // detected from the data (approach, hold, retraction)
-  bool after_puncture = false;   // past the model's own x_pi (Eq. 1's phases, for the terms)
-  bool cutting = false;          // between the model's x_pi and x_c while inserting
-  double x_pi_mm = 0.0;          // the model's puncture depth for this run
-  const SampleInputs* inputs = nullptr;  // this sample's packed inputs (set by the predictor; else run->inputs[i])
+  bool after_puncture = false;     // past the model's own x_pi (Eq. 1's phases, for the terms)
+  bool cutting = false;            // between the model's x_pi and x_c while inserting
+  double x_pi_mm = 0.0;            // the model's puncture depth for this run
+  const SampleInputs* inputs =
+      nullptr;  // this sample's packed inputs (set by the predictor; else run->inputs[i])
 };
 
 // What a term may quote as evidence: its fitted shared parameters, the runs, and each run's
@@ -86,7 +87,9 @@ class EffectTerm {
   // Whether the fitted form can be told apart from a smooth misfit of the baseline over
   // these data (e.g. a period seen repeating); false with the reason when it cannot. Asked
   // after the fit: a candidate that is not identifiable is never a verdict or a partial one.
-  virtual bool identifiable(const EvidenceInput& /*fitted*/, std::string& /*why_not*/) const { return true; }
+  virtual bool identifiable(const EvidenceInput& /*fitted*/, std::string& /*why_not*/) const {
+    return true;
+  }
 
   // Effect families: a catalogue entry covers the forms its physics uses ("coulomb",
   // "viscous", ...). forms() names them (empty: a single form); form() is this instance's.
@@ -105,7 +108,8 @@ class EffectTerm {
   // into shared_params(), and `run`'s regressors in the same order into `values`. The lab
   // places such a law from the eyes' own puncture shifts before the fit (puncture_law.hpp):
   // the error is flat in these slopes between fit rows. None by default.
-  virtual std::vector<std::size_t> puncture_regressors(const PreparedRun& /*run*/, std::vector<double>& values) const {
+  virtual std::vector<std::size_t> puncture_regressors(const PreparedRun& /*run*/,
+                                                       std::vector<double>& values) const {
     values.clear();
     return {};
   }

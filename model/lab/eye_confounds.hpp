@@ -17,7 +17,8 @@ namespace rig::model {
 
 // Warnings for each eye parameter (puncture depth, pre-cut and cutting scale) whose per-run
 // values correlate with the speed, the IOP or a covariate at |r| >= 0.9 over 6 or more runs.
-std::vector<std::string> eye_confound_warnings(const std::vector<const PreparedRun*>& runs, const std::vector<EyeParams>& eyes,
+std::vector<std::string> eye_confound_warnings(const std::vector<const PreparedRun*>& runs,
+                                               const std::vector<EyeParams>& eyes,
                                                const std::vector<std::string>& covariate_keys);
 
 // The baseline's CV errors [N] on both channels and its floor's parts [N].
@@ -45,7 +46,7 @@ double plausible_floor(const FloorReading& baseline, std::size_t eyes);
 // floor, but not `well_above` x the plausible floor, while within eyes it does not stand out
 // (< `own_eye_well_above` x the noise): eye variation alone may then reach it (the effect-free
 // zoo draw 190038: 1.54x a floor of 6.9 mN, whose true value was 11.8 mN).
-std::optional<std::string> uncertain_floor_warning(const FloorReading& baseline, std::size_t eyes, double well_above,
-                                                   double own_eye_well_above);
+std::optional<std::string> uncertain_floor_warning(const FloorReading& baseline, std::size_t eyes,
+                                                   double well_above, double own_eye_well_above);
 
 }  // namespace rig::model

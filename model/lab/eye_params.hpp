@@ -8,9 +8,10 @@
 namespace rig::model {
 
 struct EyeParams {
-  double precut_scale = 0.0;  // relative: before the puncture the tissue force is (1 + s) x the model's
-  double cut_scale = 0.0;     // relative: from the puncture on
-  double x_pi_mm = 0.0;       // this eye punctures x_pi_mm deeper than the model says [mm]
+  double precut_scale =
+      0.0;  // relative: before the puncture the tissue force is (1 + s) x the model's
+  double cut_scale = 0.0;  // relative: from the puncture on
+  double x_pi_mm = 0.0;    // this eye punctures x_pi_mm deeper than the model says [mm]
 };
 
 // Population standard deviations (tau) of the eye parameters, estimated from the runs.

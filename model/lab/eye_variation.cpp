@@ -7,10 +7,10 @@
 namespace rig::model {
 namespace {
 
-constexpr std::size_t kMinRuns = 3;           // fewer: no population to shrink toward
-constexpr double kShiftRange_mm = 0.6;        // puncture shifts searched: +-0.6 mm
-constexpr double kShiftStep_mm = 0.05;        // grid step, then golden refinement
-constexpr double kWindow_mm = 0.8;            // rows this close to the model's puncture carry the shift
+constexpr std::size_t kMinRuns = 3;     // fewer: no population to shrink toward
+constexpr double kShiftRange_mm = 0.6;  // puncture shifts searched: +-0.6 mm
+constexpr double kShiftStep_mm = 0.05;  // grid step, then golden refinement
+constexpr double kWindow_mm = 0.8;      // rows this close to the model's puncture carry the shift
 constexpr double kUnknown = std::numeric_limits<double>::infinity();
 
 // One run's residuals (measured - prediction - instrument columns) at `rows` for an eye.
@@ -20,10 +20,12 @@ struct RunResidual {
   const ModelParams* p;
   const Eigen::VectorXd* beta;
 
-  std::vector<double> at(const std::vector<std::size_t>& rows, const EyeParams& eye, EyeColumns* tissue = nullptr) const {
+  std::vector<double> at(const std::vector<std::size_t>& rows, const EyeParams& eye,
+                         EyeColumns* tissue = nullptr) const {
     std::vector<double> prediction;
     Eigen::MatrixXd X;
-    const bool linear = predictor->linear_columns() > 0 && beta->size() == predictor->linear_columns();
+    const bool linear =
+        predictor->linear_columns() > 0 && beta->size() == predictor->linear_columns();
     predictor->evaluate(*run, *p, rows, prediction, linear ? &X : nullptr, nullptr, &eye, tissue);
     std::vector<double> r(rows.size());
     for (std::size_t n = 0; n < rows.size(); ++n) {
@@ -46,10 +48,12 @@ struct RunEstimate {
   double var_shift = kUnknown;
 };
 
-std::vector<std::size_t> rows_near_puncture(const Predictor& predictor, const PreparedRun& run, const ModelParams& p) {
+std::vector<std::size_t> rows_near_puncture(const Predictor& predictor, const PreparedRun& run,
+                                            const ModelParams& p) {
   ForceModel m = predictor.model();
   m.params = p.base;
-  for (std::size_t k = 0; k < predictor.terms().size(); ++k) predictor.terms()[k]->adjust_model(run, p.shared[k].data(), m.params);
+  for (std::size_t k = 0; k < predictor.terms().size(); ++k)
+    predictor.terms()[k]->adjust_model(run, p.shared[k].data(), m.params);
   const double x_pi = m.puncture_depth_mm(run.iop_mmHg);
   std::vector<std::size_t> rows;
   for (const std::size_t i : run.fit_rows) {
@@ -62,9 +66,12 @@ std::vector<std::size_t> rows_near_puncture(const Predictor& predictor, const Pr
 
 // The puncture shift minimising the error near the puncture (scale held), and the error's
 // curvature there for the sampling variance.
-void fit_shift(const RunResidual& residual, const std::vector<std::size_t>& rows, double noise_N2, RunEstimate& e) {
+void fit_shift(const RunResidual& residual, const std::vector<std::size_t>& rows, double noise_N2,
+               RunEstimate& e) {
   if (rows.size() < 5) return;
-  auto sse = [&](double shift) { return residual.sse(rows, {e.eye.precut_scale, e.eye.cut_scale, shift}); };
+  auto sse = [&](double shift) {
+    return residual.sse(rows, {e.eye.precut_scale, e.eye.cut_scale, shift});
+  };
   double best = 0.0, best_sse = sse(0.0);
   for (double s = -kShiftRange_mm; s <= kShiftRange_mm + 1e-9; s += kShiftStep_mm) {
     const double value = sse(s);
@@ -82,13 +89,15 @@ void fit_shift(const RunResidual& residual, const std::vector<std::size_t>& rows
   }
   e.eye.x_pi_mm = 0.5 * (lo + hi);
   const double h = 0.5 * kShiftStep_mm;
-  const double curvature = (sse(e.eye.x_pi_mm + h) - 2.0 * sse(e.eye.x_pi_mm) + sse(e.eye.x_pi_mm - h)) / (h * h);
+  const double curvature =
+      (sse(e.eye.x_pi_mm + h) - 2.0 * sse(e.eye.x_pi_mm) + sse(e.eye.x_pi_mm - h)) / (h * h);
   e.var_shift = curvature > 0.0 ? 2.0 * noise_N2 / curvature : kUnknown;
 }
 
 // The scales by least squares over all fit rows (the prediction is linear in them and each
 // row carries one of the two).
-void fit_scales(const RunResidual& residual, const PreparedRun& run, double& noise_N2, RunEstimate& e) {
+void fit_scales(const RunResidual& residual, const PreparedRun& run, double& noise_N2,
+                RunEstimate& e) {
   EyeColumns tissue;
   const std::vector<double> r = residual.at(run.fit_rows, {0.0, 0.0, e.eye.x_pi_mm}, &tissue);
   double pp = 0.0, pr = 0.0, cc = 0.0, cr = 0.0, rr = 0.0;
@@ -106,7 +115,8 @@ void fit_scales(const RunResidual& residual, const PreparedRun& run, double& noi
   e.var_cut = cc > 0.0 ? noise_N2 / cc : kUnknown;
 }
 
-RunEstimate estimate_run(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta) {
+RunEstimate estimate_run(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
+                         const Eigen::VectorXd& beta) {
   const RunResidual residual{&predictor, &run, &p, &beta};
   const std::vector<std::size_t> near = rows_near_puncture(predictor, run, p);
   RunEstimate e;
@@ -120,7 +130,8 @@ RunEstimate estimate_run(const Predictor& predictor, const PreparedRun& run, con
 }
 
 // The spread (tau) of one eye parameter over the runs with a finite sampling variance.
-double spread_of(const std::vector<RunEstimate>& estimates, double EyeParams::*member, double RunEstimate::*variance, int fitted) {
+double spread_of(const std::vector<RunEstimate>& estimates, double EyeParams::*member,
+                 double RunEstimate::*variance, int fitted) {
   std::vector<double> deviations, variances;
   for (const RunEstimate& e : estimates) {
     if (!std::isfinite(e.*variance)) continue;
@@ -143,39 +154,52 @@ double shrink(double value, double variance, double tau) {
 // variance's mean takes one. Over 9 eyes, a covariate's two slopes on the cutting scale
 // would otherwise leave tau^2 at 6/9 of the truth (draw 200038: a floor of 5.5 mN against a
 // true 7.6 before 2026-11-29).
-double eye_parameter_variance(const std::vector<double>& deviations, const std::vector<double>& variances, int fitted) {
+double eye_parameter_variance(const std::vector<double>& deviations,
+                              const std::vector<double>& variances, int fitted) {
   if (deviations.empty()) return 0.0;
   double squares = 0.0, mean_variance = 0.0;
   for (const double d : deviations) squares += d * d;
   for (const double v : variances) mean_variance += v / static_cast<double>(variances.size());
-  const double left = std::max(1.0, static_cast<double>(deviations.size()) - static_cast<double>(std::max(fitted, 0)));
+  const double left = std::max(
+      1.0, static_cast<double>(deviations.size()) - static_cast<double>(std::max(fitted, 0)));
   return std::max(0.0, squares / left - mean_variance);
 }
 
-EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
-                          const std::vector<Eigen::VectorXd>& betas, const EyeDof& fitted) {
+EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                          const ModelParams& p, const std::vector<Eigen::VectorXd>& betas,
+                          const EyeDof& fitted) {
   EyeEstimate out;
   out.eyes.assign(runs.size(), EyeParams{});
   if (runs.size() < kMinRuns) return out;
   std::vector<RunEstimate> estimates;
   const Eigen::VectorXd none;
-  for (std::size_t r = 0; r < runs.size(); ++r) estimates.push_back(estimate_run(predictor, *runs[r], p, r < betas.size() ? betas[r] : none));
-  out.spread.precut_scale = spread_of(estimates, &EyeParams::precut_scale, &RunEstimate::var_precut, fitted.precut_scale);
-  out.spread.cut_scale = spread_of(estimates, &EyeParams::cut_scale, &RunEstimate::var_cut, fitted.cut_scale);
-  out.spread.x_pi_mm = spread_of(estimates, &EyeParams::x_pi_mm, &RunEstimate::var_shift, fitted.x_pi_mm);
+  for (std::size_t r = 0; r < runs.size(); ++r)
+    estimates.push_back(estimate_run(predictor, *runs[r], p, r < betas.size() ? betas[r] : none));
+  out.spread.precut_scale =
+      spread_of(estimates, &EyeParams::precut_scale, &RunEstimate::var_precut, fitted.precut_scale);
+  out.spread.cut_scale =
+      spread_of(estimates, &EyeParams::cut_scale, &RunEstimate::var_cut, fitted.cut_scale);
+  out.spread.x_pi_mm =
+      spread_of(estimates, &EyeParams::x_pi_mm, &RunEstimate::var_shift, fitted.x_pi_mm);
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    out.eyes[r].precut_scale = shrink(estimates[r].eye.precut_scale, estimates[r].var_precut, out.spread.precut_scale);
-    out.eyes[r].cut_scale = shrink(estimates[r].eye.cut_scale, estimates[r].var_cut, out.spread.cut_scale);
-    out.eyes[r].x_pi_mm = shrink(estimates[r].eye.x_pi_mm, estimates[r].var_shift, out.spread.x_pi_mm);
+    out.eyes[r].precut_scale =
+        shrink(estimates[r].eye.precut_scale, estimates[r].var_precut, out.spread.precut_scale);
+    out.eyes[r].cut_scale =
+        shrink(estimates[r].eye.cut_scale, estimates[r].var_cut, out.spread.cut_scale);
+    out.eyes[r].x_pi_mm =
+        shrink(estimates[r].eye.x_pi_mm, estimates[r].var_shift, out.spread.x_pi_mm);
   }
   return out;
 }
 
-EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta) {
+EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
+                  const Eigen::VectorXd& beta) {
   return estimate_run(predictor, run, p, beta).eye;
 }
 
-std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor,
+                                          const std::vector<const PreparedRun*>& runs,
+                                          const ModelParams& p,
                                           const std::vector<Eigen::VectorXd>& betas) {
   std::vector<OwnShift> out;
   const Eigen::VectorXd none;
@@ -186,8 +210,8 @@ std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor, const std:
   return out;
 }
 
-double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
-                       const EyeSpread& spread) {
+double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                       const ModelParams& p, const EyeSpread& spread) {
   if (!spread.any()) return 0.0;
   // 3-point Gauss-Hermite nodes and weights of a standard normal.
   const double nodes[3] = {-std::sqrt(3.0), 0.0, std::sqrt(3.0)};
@@ -204,7 +228,8 @@ double eye_variance_N2(const Predictor& predictor, const std::vector<const Prepa
       predictor.evaluate(*run, p, run->fit_rows, shifted, nullptr, nullptr, &eye, &tissue);
       for (std::size_t n = 0; n < shifted.size(); ++n) {
         const double d = shifted[n] - population[n];
-        const double pre = spread.precut_scale * tissue.precut[n], cut = spread.cut_scale * tissue.cut[n];
+        const double pre = spread.precut_scale * tissue.precut[n],
+                     cut = spread.cut_scale * tissue.cut[n];
         expected += weights[k] * (d * d + pre * pre + cut * cut);
       }
     }

@@ -28,14 +28,16 @@ struct EyeEstimate {
 // eye's unpenalised deviation d_r from the population model and its sampling variance v_r,
 // after `fitted` parameters were fitted on one value per eye: max(0, sum d_r^2 / (n - fitted)
 // - mean v_r), n - fitted at least 1.
-double eye_parameter_variance(const std::vector<double>& deviations, const std::vector<double>& variances, int fitted);
+double eye_parameter_variance(const std::vector<double>& deviations,
+                              const std::vector<double>& variances, int fitted);
 
 // Eye parameters of `runs` given the shared parameters and each run's instrument
 // coefficients (`betas`, aligned with runs; empty vectors if none). Needs >= 3 runs to
 // estimate a spread; with fewer every eye is the population model. `fitted`: the degrees of
 // freedom the shared parameters took from each eye parameter (step 2).
-EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
-                          const std::vector<Eigen::VectorXd>& betas, const EyeDof& fitted);
+EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                          const ModelParams& p, const std::vector<Eigen::VectorXd>& betas,
+                          const EyeDof& fitted);
 
 // The mean squared error per analysed sample [N^2] that eye variation adds to a prediction
 // made with the population model (eye parameters unknown): the expectation over eyes drawn
@@ -45,7 +47,8 @@ EyeEstimate estimate_eyes(const Predictor& predictor, const std::vector<const Pr
 // One run's own eye, unpenalised (no population to shrink toward): its tissue-force scales
 // and puncture shift fitted to its own fit rows, given the shared parameters and its
 // instrument coefficients `beta` (empty if none). For the within-eye CV channel.
-EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p, const Eigen::VectorXd& beta);
+EyeParams own_eye(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
+                  const Eigen::VectorXd& beta);
 
 // Each run's own puncture shift, unpenalised (step 1: no population to shrink toward) [mm],
 // and its sampling variance [mm^2] (infinite where the run says nothing of its depth), given
@@ -55,10 +58,12 @@ struct OwnShift {
   double shift_mm = 0.0;
   double variance_mm2 = 0.0;
 };
-std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
+std::vector<OwnShift> own_puncture_shifts(const Predictor& predictor,
+                                          const std::vector<const PreparedRun*>& runs,
+                                          const ModelParams& p,
                                           const std::vector<Eigen::VectorXd>& betas);
 
-double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p,
-                       const EyeSpread& spread);
+double eye_variance_N2(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                       const ModelParams& p, const EyeSpread& spread);
 
 }  // namespace rig::model

@@ -28,7 +28,9 @@ const std::vector<BaselineParam>& baseline_parameters() {
 
 namespace {
 
-double to_bounded(double u, double lo, double hi) { return lo + (hi - lo) * (1.0 + std::sin(u)) * 0.5; }
+double to_bounded(double u, double lo, double hi) {
+  return lo + (hi - lo) * (1.0 + std::sin(u)) * 0.5;
+}
 double from_bounded(double x, double lo, double hi) {
   const double s = std::clamp(2.0 * (x - lo) / (hi - lo) - 1.0, -1.0 + 1e-9, 1.0 - 1e-9);
   return std::asin(s);
@@ -36,13 +38,18 @@ double from_bounded(double x, double lo, double hi) {
 
 }  // namespace
 
-Fitter::Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline, bool eyes_differ)
-    : predictor_(&predictor), runs_(std::move(runs)), fit_baseline_(fit_baseline), eyes_differ_(eyes_differ) {
+Fitter::Fitter(const Predictor& predictor, std::vector<const PreparedRun*> runs, bool fit_baseline,
+               bool eyes_differ)
+    : predictor_(&predictor),
+      runs_(std::move(runs)),
+      fit_baseline_(fit_baseline),
+      eyes_differ_(eyes_differ) {
   if (fit_baseline_) {
     for (const auto& b : baseline_parameters()) specs_.push_back({b.lower, b.upper, true});
   }
   for (const EffectTerm* t : predictor.terms()) {
-    for (const ParamSpec& s : t->shared_params()) specs_.push_back({s.lower, s.upper, s.lower < s.upper});
+    for (const ParamSpec& s : t->shared_params())
+      specs_.push_back({s.lower, s.upper, s.lower < s.upper});
   }
   for (const PreparedRun* r : runs_) rows_ += r->fit_rows.size();
 }
@@ -80,14 +87,17 @@ ModelParams Fitter::unpack(const Eigen::VectorXd& u, const ModelParams& start) c
   return p;
 }
 
-std::vector<double> Fitter::residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
-                                      const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients, const EyeParams* eye) {
+std::vector<double> Fitter::residuals(const Predictor& predictor, const PreparedRun& run,
+                                      const ModelParams& p, const std::vector<std::size_t>& rows,
+                                      Eigen::VectorXd* coefficients, const EyeParams* eye) {
   std::vector<double> prediction;
   Eigen::MatrixXd X;
-  predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr, nullptr, eye);
+  predictor.evaluate(run, p, rows, prediction, predictor.linear_columns() > 0 ? &X : nullptr,
+                     nullptr, eye);
   std::vector<double> r(rows.size());
   const bool packed = &rows == &run.fit_rows && run.fit_inputs.size() == rows.size();
-  for (std::size_t n = 0; n < rows.size(); ++n) r[n] = (packed ? run.fit_inputs[n] : run.inputs[rows[n]]).force_N - prediction[n];
+  for (std::size_t n = 0; n < rows.size(); ++n)
+    r[n] = (packed ? run.fit_inputs[n] : run.inputs[rows[n]]).force_N - prediction[n];
   if (predictor.linear_columns() > 0) {
     const Eigen::Map<Eigen::VectorXd> rv(r.data(), static_cast<Eigen::Index>(r.size()));
     const Eigen::VectorXd beta = solve_linear(X, rv);
@@ -98,13 +108,15 @@ std::vector<double> Fitter::residuals(const Predictor& predictor, const Prepared
   return r;
 }
 
-void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& eyes, Eigen::VectorXd* fvec,
-                          Eigen::VectorXd& gamma, std::vector<Eigen::VectorXd>& betas) const {
+void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& eyes,
+                          Eigen::VectorXd* fvec, Eigen::VectorXd& gamma,
+                          std::vector<Eigen::VectorXd>& betas) const {
   betas.assign(runs_.size(), Eigen::VectorXd());
   if (predictor_->shared_columns() == 0) {
     Eigen::Index k = 0;
     for (std::size_t r = 0; r < runs_.size(); ++r) {
-      for (const double e : residuals(*predictor_, *runs_[r], p, runs_[r]->fit_rows, &betas[r], &eyes[r])) {
+      for (const double e :
+           residuals(*predictor_, *runs_[r], p, runs_[r]->fit_rows, &betas[r], &eyes[r])) {
         if (fvec != nullptr) (*fvec)(k) = e;
         ++k;
       }
@@ -118,7 +130,8 @@ void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& ey
   for (std::size_t i = 0; i < runs_.size(); ++i) {
     std::vector<double> prediction;
     const auto& fit_rows = runs_[i]->fit_rows;
-    predictor_->evaluate(*runs_[i], p, fit_rows, prediction, predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i], &eyes[i]);
+    predictor_->evaluate(*runs_[i], p, fit_rows, prediction,
+                         predictor_->linear_columns() > 0 ? &X[i] : nullptr, &S[i], &eyes[i]);
     r[i].resize(static_cast<Eigen::Index>(fit_rows.size()));
     const bool packed = runs_[i]->fit_inputs.size() == fit_rows.size();
     for (std::size_t n = 0; n < fit_rows.size(); ++n) {
@@ -137,7 +150,8 @@ void Fitter::evaluate_all(const ModelParams& p, const std::vector<EyeParams>& ey
       const Eigen::VectorXd rest = r[i] - S[i] * gamma;
       betas[i] = X[i].cols() > 0 ? solve_linear(X[i], rest) : Eigen::VectorXd();
       stacked.middleRows(at, r[i].size()) = S[i];
-      target.segment(at, r[i].size()) = betas[i].size() > 0 ? Eigen::VectorXd(r[i] - X[i] * betas[i]) : r[i];
+      target.segment(at, r[i].size()) =
+          betas[i].size() > 0 ? Eigen::VectorXd(r[i] - X[i] * betas[i]) : r[i];
       at += r[i].size();
     }
     gamma = solve_linear(stacked, target);
@@ -189,7 +203,8 @@ struct FitFunctor {
   }
 };
 
-FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams>& eyes, int max_evaluations) const {
+FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams>& eyes,
+                           int max_evaluations) const {
   FitResult result;
   result.params = start;
   result.converged = true;  // nothing to fit is not a failure
@@ -206,10 +221,11 @@ FitResult Fitter::minimise(const ModelParams& start, const std::vector<EyeParams
     result.params = unpack(u, start);
     result.evaluations = static_cast<int>(lm.nfev);
     result.left_start = (u - u0).cwiseAbs().maxCoeff() > 0.0;
-    result.converged = status == Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall ||
-                       status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
-                       status == Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall ||
-                       status == Eigen::LevenbergMarquardtSpace::XtolTooSmall;
+    result.converged =
+        status == Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall ||
+        status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
+        status == Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall ||
+        status == Eigen::LevenbergMarquardtSpace::XtolTooSmall;
   }
   result.eyes = eyes;
   Eigen::VectorXd fvec = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(rows_));
@@ -222,7 +238,8 @@ EyeDof Fitter::eye_level_params(const ModelParams& p) const {
   // The baseline's fitted stiffnesses and puncture shift set each eye parameter's level.
   EyeDof dof = fit_baseline_ ? EyeDof{1, 1, 1} : EyeDof{};
   const auto& terms = predictor_->terms();
-  for (std::size_t k = 0; k < terms.size() && k < p.shared.size(); ++k) dof += terms[k]->eye_level_params(p.shared[k].data());
+  for (std::size_t k = 0; k < terms.size() && k < p.shared.size(); ++k)
+    dof += terms[k]->eye_level_params(p.shared[k].data());
   return dof;
 }
 
@@ -231,7 +248,8 @@ EyeDof Fitter::eye_level_params(const ModelParams& p) const {
 // the law's slopes, and the fit alone leaves them where they start.
 FitResult Fitter::population_fit(const ModelParams& start, int max_evaluations) const {
   const std::vector<EyeParams> none(runs_.size());
-  if (runs_.size() < kMinLawRuns || !has_puncture_law(*predictor_, runs_)) return minimise(start, none, max_evaluations);
+  if (runs_.size() < kMinLawRuns || !has_puncture_law(*predictor_, runs_))
+    return minimise(start, none, max_evaluations);
   ModelParams placed = start;
   place_puncture_law(*predictor_, runs_, placed, {}, fit_baseline_);
   const FitResult first = minimise(placed, none, max_evaluations);
@@ -249,7 +267,9 @@ FitResult Fitter::fit(const ModelParams& start, int max_evaluations) const {
   // Alternate: eyes given the shared parameters, shared parameters given the eyes. Eye-free
   // data give no spread and stop after the first estimate.
   for (int round = 0; round < 2; ++round) {
-    const EyeEstimate eyes = estimate_eyes(*predictor_, runs_, result.params, result.run_coefficients, eye_level_params(result.params));
+    const EyeEstimate eyes =
+        estimate_eyes(*predictor_, runs_, result.params, result.run_coefficients,
+                      eye_level_params(result.params));
     if (!eyes.spread.any()) break;
     const int evaluations = result.evaluations;
     const bool left_start = result.left_start;

@@ -51,8 +51,9 @@ class Fitter {
 
   // Residuals (measured - predicted) of a run at `rows`, with its linear coefficients
   // solved on `coefficient_rows` (the same rows, or other blocks for blocked CV).
-  static std::vector<double> residuals(const Predictor& predictor, const PreparedRun& run, const ModelParams& p,
-                                       const std::vector<std::size_t>& rows, Eigen::VectorXd* coefficients = nullptr,
+  static std::vector<double> residuals(const Predictor& predictor, const PreparedRun& run,
+                                       const ModelParams& p, const std::vector<std::size_t>& rows,
+                                       Eigen::VectorXd* coefficients = nullptr,
                                        const EyeParams* eye = nullptr);
 
   std::size_t parameter_count() const { return specs_.size(); }
@@ -74,7 +75,8 @@ class Fitter {
   // placed from the eyes' own shifts first (puncture_law.hpp).
   FitResult population_fit(const ModelParams& start, int max_evaluations) const;
   // Levenberg-Marquardt over the shared parameters, the eyes held.
-  FitResult minimise(const ModelParams& start, const std::vector<EyeParams>& eyes, int max_evaluations) const;
+  FitResult minimise(const ModelParams& start, const std::vector<EyeParams>& eyes,
+                     int max_evaluations) const;
   ModelParams unpack(const Eigen::VectorXd& u, const ModelParams& start) const;
   Eigen::VectorXd pack(const ModelParams& p) const;
   friend struct FitFunctor;

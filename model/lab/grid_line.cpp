@@ -8,33 +8,36 @@
 namespace rig::model {
 namespace {
 
-constexpr double kSearchHz = 0.3;     // half width of the search around the nominal [Hz]
+constexpr double kSearchHz = 0.3;       // half width of the search around the nominal [Hz]
 constexpr double kCoarseStepHz = 0.02;  // under half the main lobe of a 40 s run (0.025 Hz)
 constexpr double kFineToleranceHz = 0.001;
 
 // |DFT| of the first differences (a high-pass: the force curve itself leaks no line) at
 // `hz`, on a uniform grid of step dt_s: a phasor recurrence, no trigonometry per sample.
-double line_power(const std::vector<double>& force_N, std::size_t begin, std::size_t end, double dt_s, double hz) {
+double line_power(const std::vector<double>& force_N, std::size_t begin, std::size_t end,
+                  double dt_s, double hz) {
   const std::complex<double> step = std::polar(1.0, -2.0 * std::numbers::pi * hz * dt_s);
   std::complex<double> phasor(1.0, 0.0), sum(0.0, 0.0);
   for (std::size_t i = begin + 1; i < end; ++i) {
     sum += (force_N[i] - force_N[i - 1]) * phasor;
     phasor *= step;
-    if (((i - begin) & 1023U) == 0U) phasor /= std::abs(phasor);  // keep |phasor| = 1 over long runs
+    if (((i - begin) & 1023U) == 0U)
+      phasor /= std::abs(phasor);  // keep |phasor| = 1 over long runs
   }
   return std::norm(sum);
 }
 
 }  // namespace
 
-double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& force_N, std::size_t begin, std::size_t end,
-                    double nominal_hz) {
+double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& force_N,
+                    std::size_t begin, std::size_t end, double nominal_hz) {
   if (end > force_N.size() || end > t_s.size() || end < begin + 3) return nominal_hz;
   const double span_s = t_s[end - 1] - t_s[begin];
   const double dt_s = span_s / static_cast<double>(end - begin - 1);
   if (span_s < 2.0 || dt_s <= 0.0 || 1.0 / dt_s < 150.0) return nominal_hz;
   double best_hz = nominal_hz, best = -1.0;
-  for (double hz = nominal_hz - kSearchHz; hz <= nominal_hz + kSearchHz + 1e-9; hz += kCoarseStepHz) {
+  for (double hz = nominal_hz - kSearchHz; hz <= nominal_hz + kSearchHz + 1e-9;
+       hz += kCoarseStepHz) {
     const double p = line_power(force_N, begin, end, dt_s, hz);
     if (p > best) best = p, best_hz = hz;
   }
@@ -42,19 +45,22 @@ double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& f
   const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
   double lo = best_hz - kCoarseStepHz, hi = best_hz + kCoarseStepHz;
   double a = hi - ratio * (hi - lo), b = lo + ratio * (hi - lo);
-  double pa = line_power(force_N, begin, end, dt_s, a), pb = line_power(force_N, begin, end, dt_s, b);
+  double pa = line_power(force_N, begin, end, dt_s, a),
+         pb = line_power(force_N, begin, end, dt_s, b);
   while (hi - lo > kFineToleranceHz) {
     if (pa > pb) {
-      hi = b, b = a, pb = pa, a = hi - ratio * (hi - lo), pa = line_power(force_N, begin, end, dt_s, a);
+      hi = b, b = a, pb = pa, a = hi - ratio * (hi - lo),
+      pa = line_power(force_N, begin, end, dt_s, a);
     } else {
-      lo = a, a = b, pa = pb, b = lo + ratio * (hi - lo), pb = line_power(force_N, begin, end, dt_s, b);
+      lo = a, a = b, pa = pb, b = lo + ratio * (hi - lo),
+      pb = line_power(force_N, begin, end, dt_s, b);
     }
   }
   return 0.5 * (lo + hi);
 }
 
-std::vector<double> grid_cycles(const std::vector<double>& t_s, const std::vector<double>& force_N, std::size_t begin,
-                                double line_hz) {
+std::vector<double> grid_cycles(const std::vector<double>& t_s, const std::vector<double>& force_N,
+                                std::size_t begin, double line_hz) {
   constexpr double kHalfWindow_s = 0.5;
   const std::size_t n = std::min(t_s.size(), force_N.size());
   std::vector<double> cycles(n, 0.0);

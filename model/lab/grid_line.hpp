@@ -10,8 +10,8 @@ namespace rig::model {
 
 // Strongest line of `force_N` sampled at `t_s` within nominal_hz +- 0.3 Hz, to ~0.002 Hz;
 // `nominal_hz` when the run is too short (< 2 s) or too slowly sampled (< 150 Hz) to tell.
-double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& force_N, std::size_t begin, std::size_t end,
-                    double nominal_hz);
+double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& force_N,
+                    std::size_t begin, std::size_t end, double nominal_hz);
 
 // The grid's phase through the run [cycles since t_s[begin]], one value per sample (before
 // `begin`: the line's plain phase): the line at `line_hz` plus the slow wander of the grid
@@ -21,7 +21,7 @@ double grid_line_hz(const std::vector<double>& t_s, const std::vector<double>& f
 // which constant coefficients cannot follow (and the 3rd and 5th harmonics three and five
 // times more). Where the run carries no pick-up it tracks noise, harmlessly: the
 // coefficients fitted on it are then ~0.
-std::vector<double> grid_cycles(const std::vector<double>& t_s, const std::vector<double>& force_N, std::size_t begin,
-                                double line_hz);
+std::vector<double> grid_cycles(const std::vector<double>& t_s, const std::vector<double>& force_N,
+                                std::size_t begin, double line_hz);
 
 }  // namespace rig::model

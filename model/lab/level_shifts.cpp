@@ -17,11 +17,11 @@ constexpr double kSlopeShare =
 constexpr double kReload_mm = 0.6;
 constexpr double kMotionChange_s = 0.1;  // a jump "as the carriage stops" is this close [s]:
                                          // the servo settles, and a rate law with it, in ~0.1 s
-constexpr double kSpeedSpan_s = 0.01;     // the carriage's speed is taken over +- this [s] ...
-constexpr double kSettled_mm_s = 0.3;     // ... and it stands under this (the pot's +-1 count
-                                          // of 1.5 um over 20 ms reads as 0.15 mm/s)
-constexpr double kRestSpan_s = 0.05;  // the carriage stands when it moves less than
-                                      // kStanding_mm_s over this span [s]
+constexpr double kSpeedSpan_s = 0.01;    // the carriage's speed is taken over +- this [s] ...
+constexpr double kSettled_mm_s = 0.3;    // ... and it stands under this (the pot's +-1 count
+                                         // of 1.5 um over 20 ms reads as 0.15 mm/s)
+constexpr double kRestSpan_s = 0.05;     // the carriage stands when it moves less than
+                                         // kStanding_mm_s over this span [s]
 // A drop that lands on the run's contact-free level and stays flat there is the blade let go
 // (the cut through, or a soft mount snapping the tip forward: 220035), not the sensor.
 constexpr double kFreeLevelSigmas = 6.0;
@@ -86,7 +86,8 @@ struct Jump {
 
 // The first sample at or after time `t` [s] (the run's size if none).
 std::size_t first_at(const RunData& run, double t) {
-  return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) - run.t_s.begin());
+  return static_cast<std::size_t>(std::lower_bound(run.t_s.begin(), run.t_s.end(), t) -
+                                  run.t_s.begin());
 }
 
 // Whether the carriage stood less than kReload_mm of advance before sample `i`.
@@ -94,7 +95,8 @@ bool reloading(const RunData& run, std::size_t i) {
   for (std::size_t k = i, m = i; k > 0 && std::abs(run.x_mm[i] - run.x_mm[k]) < kReload_mm; --k) {
     while (m > 0 && run.t_s[k] - run.t_s[m] < kRestSpan_s) --m;
     if (run.t_s[k] - run.t_s[m] < kRestSpan_s) return false;  // the run's start
-    if (std::abs(run.x_mm[k] - run.x_mm[m]) < kStanding_mm_s * (run.t_s[k] - run.t_s[m])) return true;
+    if (std::abs(run.x_mm[k] - run.x_mm[m]) < kStanding_mm_s * (run.t_s[k] - run.t_s[m]))
+      return true;
   }
   return false;
 }
@@ -110,8 +112,10 @@ bool motion_changes_near(const RunData& run, std::size_t i) {
     return dt > 0.0 ? std::abs(run.x_mm[hi] - run.x_mm[lo]) / dt : 0.0;
   };
   bool standing = false, moving = false;
-  for (std::size_t k = i; k > 0 && run.t_s[i] - run.t_s[k] <= kMotionChange_s; --k) (speed(k) < kSettled_mm_s ? standing : moving) = true;
-  for (std::size_t k = i; k < run.size() && run.t_s[k] - run.t_s[i] <= kMotionChange_s; ++k) (speed(k) < kSettled_mm_s ? standing : moving) = true;
+  for (std::size_t k = i; k > 0 && run.t_s[i] - run.t_s[k] <= kMotionChange_s; --k)
+    (speed(k) < kSettled_mm_s ? standing : moving) = true;
+  for (std::size_t k = i; k < run.size() && run.t_s[k] - run.t_s[i] <= kMotionChange_s; ++k)
+    (speed(k) < kSettled_mm_s ? standing : moving) = true;
   return standing && moving;
 }
 
@@ -126,13 +130,16 @@ double free_level(const std::vector<double>& force) {
 // A drop onto the contact-free level, flat in x after it: the blade let go.
 bool lets_go(const Jump& j, double sigma, double level) {
   if (j.size >= 0.0 || std::abs(j.right.x_slope) < kStanding_mm_s) return false;
-  const double flat = 4.0 * sigma * j.right.slope_se + 0.01 * std::abs(j.size) * std::abs(j.right.x_slope);
-  const bool at_level = std::abs(j.right.value - level) <= std::max(kFreeLevelSigmas * sigma, kFreeLevelShare * std::abs(j.size));
+  const double flat =
+      4.0 * sigma * j.right.slope_se + 0.01 * std::abs(j.size) * std::abs(j.right.x_slope);
+  const bool at_level = std::abs(j.right.value - level) <=
+                        std::max(kFreeLevelSigmas * sigma, kFreeLevelShare * std::abs(j.size));
   return at_level && std::abs(j.right.slope) <= flat;
 }
 
 // Whether the jump is the sensor's (see the header) rather than the tissue's.
-bool is_offset(const Jump& j, const RunData& run, double level, double sigma, const LevelShiftOptions& o) {
+bool is_offset(const Jump& j, const RunData& run, double level, double sigma,
+               const LevelShiftOptions& o) {
   // A change of slope in time makes the two lines disagree near it by up to about half that
   // change times the lines' reach (a kink at a stop, a speed change): a jump must dominate it.
   if (std::abs(j.size) < std::abs(j.right.slope - j.left.slope) * (o.gap_s + 0.5 * o.window_s))
@@ -149,10 +156,12 @@ bool is_offset(const Jump& j, const RunData& run, double level, double sigma, co
     const Line& left = j.left_wide.count > 0 ? j.left_wide : j.left;
     const Line& right = j.right_wide.count > 0 ? j.right_wide : j.right;
     const double sl = left.slope / left.x_slope, sr = right.slope / right.x_slope;  // [N/mm]
-    const double se = sigma * std::hypot(left.slope_se / left.x_slope, right.slope_se / right.x_slope);
+    const double se =
+        sigma * std::hypot(left.slope_se / left.x_slope, right.slope_se / right.x_slope);
     // A jump up is the tissue's only when its stiffness changes across it (130030: a rate law
     // that lets go at the puncture leaves a jump up onto the cutting plateau).
-    if (j.size > 0.0) return std::abs(sr - sl) <= 4.0 * se + kSlopeShare * std::max(std::abs(sl), std::abs(sr));
+    if (j.size > 0.0)
+      return std::abs(sr - sl) <= 4.0 * se + kSlopeShare * std::max(std::abs(sl), std::abs(sr));
     return sr >= sl - 4.0 * se - kSlopeShare * std::abs(sl);
   }
   // Starting (relaxed tissue reloads within a fraction of a mm), reversing or parking: the
@@ -172,21 +181,26 @@ void widen(Jump& j, const Sums& s, const RunData& run, const LevelShiftOptions& 
     return std::abs(wide.x_slope - narrow.x_slope) <= 0.3 * std::abs(narrow.x_slope);
   };
   if (std::abs(j.left.x_slope) >= kStanding_mm_s) {
-    const double reach = std::clamp(kSlopeReach_mm / std::abs(j.left.x_slope), o.window_s, kMaxSlopeWindow_s);
+    const double reach =
+        std::clamp(kSlopeReach_mm / std::abs(j.left.x_slope), o.window_s, kMaxSlopeWindow_s);
     const Line wide = line(s, first_at(run, t - o.gap_s - reach), first_at(run, t - o.gap_s), at);
     if (same_speed(wide, j.left)) j.left_wide = wide;
   }
   if (std::abs(j.right.x_slope) >= kStanding_mm_s) {
-    const double reach = std::clamp(kSlopeReach_mm / std::abs(j.right.x_slope), o.window_s, kMaxSlopeWindow_s);
-    const Line wide = line(s, first_at(run, t + o.gap_s + 1e-12), first_at(run, t + o.gap_s + reach + 1e-12), at);
+    const double reach =
+        std::clamp(kSlopeReach_mm / std::abs(j.right.x_slope), o.window_s, kMaxSlopeWindow_s);
+    const Line wide =
+        line(s, first_at(run, t + o.gap_s + 1e-12), first_at(run, t + o.gap_s + reach + 1e-12), at);
     if (same_speed(wide, j.right)) j.right_wide = wide;
   }
 }
 
 // The median over samples [lo, hi) of the force less `from`'s line [N].
-double median_off(const RunData& run, const std::vector<double>& force, std::size_t lo, std::size_t hi, const Line& from, double at) {
+double median_off(const RunData& run, const std::vector<double>& force, std::size_t lo,
+                  std::size_t hi, const Line& from, double at) {
   std::vector<double> d;
-  for (std::size_t k = lo; k < hi; ++k) d.push_back(force[k] - (from.value + from.slope * (run.t_s[k] - run.t_s.front() - at)));
+  for (std::size_t k = lo; k < hi; ++k)
+    d.push_back(force[k] - (from.value + from.slope * (run.t_s[k] - run.t_s.front() - at)));
   if (d.empty()) return 0.0;
   std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
   return d[d.size() / 2];
@@ -200,7 +214,8 @@ bool persists(const Jump& j, const RunData& run, const std::vector<double>& forc
   const double right_off = median_off(run, force, j.r0, j.r1, j.left, at);
   const double left_off = median_off(run, force, j.l0, j.l1, j.right, at);
   const double half = 0.5 * j.size;
-  return j.size > 0.0 ? right_off >= half && left_off <= -half : right_off <= half && left_off >= -half;
+  return j.size > 0.0 ? right_off >= half && left_off <= -half
+                      : right_off <= half && left_off >= -half;
 }
 
 // Jumps of `force` in `run` far above the noise, largest first, one per place.
@@ -232,7 +247,9 @@ std::vector<Jump> jumps(const RunData& run, const std::vector<double>& force, do
     });
     if (!near) kept.push_back(j);
   }
-  kept.erase(std::remove_if(kept.begin(), kept.end(), [&](const Jump& j) { return !persists(j, run, force); }), kept.end());
+  kept.erase(std::remove_if(kept.begin(), kept.end(),
+                            [&](const Jump& j) { return !persists(j, run, force); }),
+             kept.end());
   for (Jump& j : kept) widen(j, s, run, o);
   return kept;
 }

@@ -8,7 +8,8 @@
 
 namespace rig::model {
 
-ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra)
+ModelFamily::ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue,
+                         const std::vector<std::string>& extra)
     : catalogue_(catalogue), extra_(extra) {
   for (SavedEffect& saved : saved_effects(model, catalogue)) {
     names_.push_back(saved.term->name());
@@ -38,7 +39,8 @@ ModelParams ModelFamily::start(const std::vector<const PreparedRun*>& runs) cons
     for (const auto& candidate : starts) {  // ... or after a short fit from it (fit_each_start)
       ModelParams trial = p;
       trial.shared[k] = candidate;
-      const double error = fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
+      const double error =
+          fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
       if (error < best) best = error, p.shared[k] = candidate;
     }
   }
@@ -54,18 +56,23 @@ std::vector<std::string> ModelFamily::forms() const {
 TrainedModel ModelFamily::trained_on(const std::vector<const PreparedRun*>& runs) const {
   if (runs == catalogue_.runs()) {
     // Not owned: this family outlives the cross-validation that asks.
-    return {std::shared_ptr<const Predictor>(std::shared_ptr<const Predictor>(), predictor_.get()), start(runs), forms()};
+    return {std::shared_ptr<const Predictor>(std::shared_ptr<const Predictor>(), predictor_.get()),
+            start(runs), forms()};
   }
   const std::shared_ptr<const EffectCatalogue> catalogue = catalogue_.on_runs(runs);
   const auto family = std::make_shared<const ModelFamily>(catalogue->model(), *catalogue, extra_);
-  return {std::shared_ptr<const Predictor>(family, &family->predictor()), family->start(runs), family->forms()};
+  return {std::shared_ptr<const Predictor>(family, &family->predictor()), family->start(runs),
+          family->forms()};
 }
 
 CvResult ModelFamily::cross_validate(const std::vector<const PreparedRun*>& runs) const {
-  return model::cross_validate(runs, [this](const std::vector<const PreparedRun*>& training) { return trained_on(training); });
+  return model::cross_validate(runs, [this](const std::vector<const PreparedRun*>& training) {
+    return trained_on(training);
+  });
 }
 
-double ModelFamily::eye_variance_N2(const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+double ModelFamily::eye_variance_N2(const FitResult& fit,
+                                    const std::vector<const PreparedRun*>& runs) const {
   return model::eye_variance_N2(*predictor_, runs, fit.params, fit.eye_spread);
 }
 
@@ -75,7 +82,8 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
     if (names_[k].rfind("user:", 0) == 0) continue;  // user terms stay in [terms]
     EffectSetting setting{names_[k], {}};
     const auto specs = owned_[k]->shared_params();
-    for (std::size_t i = 0; i < specs.size(); ++i) setting.params[specs[i].name] = params.shared[k][i];
+    for (std::size_t i = 0; i < specs.size(); ++i)
+      setting.params[specs[i].name] = params.shared[k][i];
     if (const auto* cov = dynamic_cast<const effects::CovariateScaling*>(owned_[k].get())) {
       setting.params["mean"] = cov->range().mean;
       setting.params["spread"] = cov->range().spread;
@@ -90,20 +98,24 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
 std::vector<UserTerm> ModelFamily::user_terms(const ModelParams& params) const {
   std::vector<UserTerm> out;
   for (std::size_t k = 0; k < owned_.size(); ++k) {
-    if (const auto* user = dynamic_cast<const effects::UserExpression*>(owned_[k].get())) out.push_back(user->with_params(params.shared[k].data()));
+    if (const auto* user = dynamic_cast<const effects::UserExpression*>(owned_[k].get()))
+      out.push_back(user->with_params(params.shared[k].data()));
   }
   return out;
 }
 
 std::optional<std::pair<const EffectTerm*, EvidenceInput>> ModelFamily::fitted_term(
-    const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+    const std::string& effect, const FitResult& fit,
+    const std::vector<const PreparedRun*>& runs) const {
   int column = 0;
   for (std::size_t k = 0; k < owned_.size(); ++k) {
     const int columns = owned_[k]->linear_columns();
     if (names_[k] == effect) {
       EvidenceInput in{fit.params.shared[k].data(), runs, {}};
       for (const auto& c : fit.run_coefficients) {
-        in.run_coefficients.push_back(columns > 0 && c.size() >= column + columns ? Eigen::VectorXd(c.segment(column, columns)) : Eigen::VectorXd());
+        in.run_coefficients.push_back(columns > 0 && c.size() >= column + columns
+                                          ? Eigen::VectorXd(c.segment(column, columns))
+                                          : Eigen::VectorXd());
       }
       return std::make_pair(owned_[k].get(), std::move(in));
     }
@@ -112,12 +124,14 @@ std::optional<std::pair<const EffectTerm*, EvidenceInput>> ModelFamily::fitted_t
   return std::nullopt;
 }
 
-std::string ModelFamily::evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const {
+std::string ModelFamily::evidence(const std::string& effect, const FitResult& fit,
+                                  const std::vector<const PreparedRun*>& runs) const {
   const auto term = fitted_term(effect, fit, runs);
   return term ? term->first->evidence(term->second) : "";
 }
 
-bool ModelFamily::identifiable(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs,
+bool ModelFamily::identifiable(const std::string& effect, const FitResult& fit,
+                               const std::vector<const PreparedRun*>& runs,
                                std::string& why_not) const {
   const auto term = fitted_term(effect, fit, runs);
   return !term || term->first->identifiable(term->second, why_not);

@@ -6,8 +6,8 @@
 // is chosen there, so a held-out run decides nothing of its fold.
 #include <memory>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cross_validation.hpp"
@@ -17,7 +17,8 @@ namespace rig::model {
 
 class ModelFamily {
  public:
-  ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue, const std::vector<std::string>& extra_effects);
+  ModelFamily(const ForceModel& model, const EffectCatalogue& catalogue,
+              const std::vector<std::string>& extra_effects);
 
   const Predictor& predictor() const { return *predictor_; }
   const std::vector<std::string>& effect_names() const { return names_; }
@@ -35,16 +36,18 @@ class ModelFamily {
   std::vector<EffectSetting> settings(const ModelParams& params) const;
   // The user terms of the family with their fitted parameters, for the model file's [terms].
   std::vector<UserTerm> user_terms(const ModelParams& params) const;
-  std::string evidence(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs) const;
+  std::string evidence(const std::string& effect, const FitResult& fit,
+                       const std::vector<const PreparedRun*>& runs) const;
   // EffectTerm::identifiable of `effect` with the parameters of `fit` (true if not in the family).
-  bool identifiable(const std::string& effect, const FitResult& fit, const std::vector<const PreparedRun*>& runs,
-                    std::string& why_not) const;
+  bool identifiable(const std::string& effect, const FitResult& fit,
+                    const std::vector<const PreparedRun*>& runs, std::string& why_not) const;
 
  private:
   // The term named `effect` and its fitted parameters, as its evidence sees them.
-  std::optional<std::pair<const EffectTerm*, EvidenceInput>> fitted_term(const std::string& effect, const FitResult& fit,
-                                                                          const std::vector<const PreparedRun*>& runs) const;
-  EffectCatalogue catalogue_;        // shares its form choices and per-subset catalogues
+  std::optional<std::pair<const EffectTerm*, EvidenceInput>> fitted_term(
+      const std::string& effect, const FitResult& fit,
+      const std::vector<const PreparedRun*>& runs) const;
+  EffectCatalogue catalogue_;       // shares its form choices and per-subset catalogues
   std::vector<std::string> extra_;  // the effects asked for beyond the model's own
   std::vector<std::unique_ptr<EffectTerm>> owned_;
   std::vector<std::string> names_;

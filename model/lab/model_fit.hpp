@@ -23,7 +23,7 @@ struct FitReport {
   std::vector<std::string> effects;  // every effect of the fitted family
   double before_cv_rmse_N = 0.0;
   double after_cv_rmse_N = 0.0;
-  double noise_floor_N = 0.0;                   // of the fitted family: measurement + eye variation
+  double noise_floor_N = 0.0;  // of the fitted family: measurement + eye variation
   double measurement_noise_N = 0.0;
   double eye_variation_N = 0.0;
   EyeSpread eye_spread;                         // population SDs of the eye parameters
@@ -35,7 +35,7 @@ struct FitReport {
   std::vector<std::string> warnings;
 };
 
-FitReport fit_model(const ForceModel& model, const std::vector<RunData>& runs, const std::vector<std::string>& add,
-                    bool per_run = false);
+FitReport fit_model(const ForceModel& model, const std::vector<RunData>& runs,
+                    const std::vector<std::string>& add, bool per_run = false);
 
 }  // namespace rig::model

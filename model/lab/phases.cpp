@@ -37,7 +37,8 @@ std::size_t deepest_index(const RunData& run) {
 // First sample of the stay at `held` [mm] that ends at `deepest`: walking back while the
 // position is within the hold's own jitter of it (3 robust SDs of `window`, at least 5 um:
 // a pot's noise; a blade still arriving at 0.5 mm/s covers 5 um in 10 ms).
-std::size_t arrival_index(const RunData& run, std::size_t deepest, double held, const std::vector<double>& window) {
+std::size_t arrival_index(const RunData& run, std::size_t deepest, double held,
+                          const std::vector<double>& window) {
   std::vector<double> deviation;
   deviation.reserve(window.size());
   for (const double x : window) deviation.push_back(std::abs(x - held));
@@ -69,7 +70,8 @@ void find_hold(const RunData& run, Segmentation& s) {
     s.insertion_end = s.hold_begin = arrived;  // the insertion ends where the hold begins
     s.hold_end = leave;
   } else {
-    s.hold_begin = s.hold_end = s.insertion_end + 1;  // no hold: retraction starts after the deepest point
+    s.hold_begin = s.hold_end =
+        s.insertion_end + 1;  // no hold: retraction starts after the deepest point
   }
 }
 
@@ -84,15 +86,14 @@ void find_cut_landmarks(const RunData& run, Segmentation& s) {
   std::size_t best_i = 0;
   for (std::size_t i = 0; i < end && !s.punctured; ++i) {
     if (run.x_mm[i] < 0.0) continue;
-    if (f[i] > best) {
+    // A drop counts within 0.5 mm of its peak; farther on, the search starts again here.
+    const bool far_past_the_peak = run.x_mm[i] - run.x_mm[best_i] >= 0.5;
+    if (f[i] > best || far_past_the_peak) {
       best = f[i];
       best_i = i;
-    } else if (best - f[i] > drop && run.x_mm[i] - run.x_mm[best_i] < 0.5) {
+    } else if (best - f[i] > drop) {
       s.punctured = true;
       s.x_pi_mm = run.x_mm[best_i];
-    } else if (run.x_mm[i] - run.x_mm[best_i] >= 0.5) {
-      best = f[i];
-      best_i = i;
     }
   }
   if (!s.punctured) {
@@ -151,13 +152,15 @@ Phase insertion_phase(const Segmentation& s, double x) {
 }  // namespace
 
 const char* phase_name(Phase phase) {
-  constexpr const char* kNames[] = {"approach", "precut", "cutting", "unloading", "relaxation", "hold", "retraction"};
+  constexpr const char* kNames[] = {"approach",   "precut", "cutting",   "unloading",
+                                    "relaxation", "hold",   "retraction"};
   return kNames[static_cast<int>(phase)];
 }
 
 double noise_sigma(const std::vector<double>& v, std::size_t begin, std::size_t end) {
   std::vector<double> d2;
-  for (std::size_t i = begin + 1; i + 1 < end; ++i) d2.push_back(std::abs(v[i + 1] - 2.0 * v[i] + v[i - 1]));
+  for (std::size_t i = begin + 1; i + 1 < end; ++i)
+    d2.push_back(std::abs(v[i + 1] - 2.0 * v[i] + v[i - 1]));
   return median(d2) / 0.6745 / std::sqrt(6.0);
 }
 
@@ -185,9 +188,12 @@ Segmentation detect_phases(const RunData& run) {
   }
   const std::size_t insertion_stop = s.hold_end > s.hold_begin ? s.hold_begin : s.insertion_end + 1;
   for (std::size_t i = 0; i < run.size(); ++i) {
-    if (i < insertion_stop) s.phase[i] = insertion_phase(s, run.x_mm[i]);
-    else if (i < s.hold_end) s.phase[i] = Phase::kHold;
-    else s.phase[i] = Phase::kRetraction;
+    if (i < insertion_stop)
+      s.phase[i] = insertion_phase(s, run.x_mm[i]);
+    else if (i < s.hold_end)
+      s.phase[i] = Phase::kHold;
+    else
+      s.phase[i] = Phase::kRetraction;
   }
   return s;
 }

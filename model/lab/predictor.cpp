@@ -25,8 +25,10 @@ Predictor::Predictor(const ForceModel& model, std::vector<const EffectTerm*> ter
     : model_(model), terms_(std::move(terms)) {
   // Never run a printed-form file silently as our continuous reading (its parameters would
   // be the interpreted defaults, not the file's): the lab fits the continuous form only.
-  if (model_.form != ModelForm::kContinuous) throw ModelFileError(printed_form_refusal(model_, "the model lab"));
-  for (const EffectTerm* t : terms_) (t->per_run_coefficients() ? linear_columns_ : shared_columns_) += t->linear_columns();
+  if (model_.form != ModelForm::kContinuous)
+    throw ModelFileError(printed_form_refusal(model_, "the model lab"));
+  for (const EffectTerm* t : terms_)
+    (t->per_run_coefficients() ? linear_columns_ : shared_columns_) += t->linear_columns();
 }
 
 ModelParams Predictor::initial_params() const {
@@ -41,15 +43,18 @@ ModelParams Predictor::initial_params() const {
   return p;
 }
 
-void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
-                         std::vector<double>& out, Eigen::MatrixXd* X, Eigen::MatrixXd* S, const EyeParams* eye,
+void Predictor::evaluate(const PreparedRun& run, const ModelParams& p,
+                         const std::vector<std::size_t>& rows, std::vector<double>& out,
+                         Eigen::MatrixXd* X, Eigen::MatrixXd* S, const EyeParams* eye,
                          EyeColumns* tissue) const {
   ForceModel m = model_;
   m.params = p.base;
-  for (std::size_t k = 0; k < terms_.size(); ++k) terms_[k]->adjust_model(run, p.shared[k].data(), m.params);
+  for (std::size_t k = 0; k < terms_.size(); ++k)
+    terms_[k]->adjust_model(run, p.shared[k].data(), m.params);
   if (eye != nullptr) m.params.x_pi_shift += eye->x_pi_mm;
   out.resize(rows.size());
-  if (tissue != nullptr) tissue->precut.assign(rows.size(), 0.0), tissue->cut.assign(rows.size(), 0.0);
+  if (tissue != nullptr)
+    tissue->precut.assign(rows.size(), 0.0), tissue->cut.assign(rows.size(), 0.0);
   if (X != nullptr) X->resize(static_cast<Eigen::Index>(rows.size()), linear_columns_);
   if (S != nullptr) S->resize(static_cast<Eigen::Index>(rows.size()), shared_columns_);
   const ForceModel::RunDepths depths = m.depths(run.iop_mmHg);
@@ -71,19 +76,24 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
       shift += terms_[k]->x_shift(s, p.shared[k].data());
       front_shift += terms_[k]->front_shift(s, p.shared[k].data());
     }
-    const double tip_front_mm = in.front_mm - front_shift;  // where the blade has been (Eq. 1's phases)
+    const double tip_front_mm =
+        in.front_mm - front_shift;  // where the blade has been (Eq. 1's phases)
     s.inserted_mm = std::max(0.0, std::min(s.x_mm - shift, tip_front_mm) - x_pi);
     s.after_puncture = tip_front_mm >= x_pi;
-    s.cutting = s.after_puncture && s.x_mm - shift < x_c && (s.phase != Phase::kHold && s.phase != Phase::kRetraction);
+    s.cutting = s.after_puncture && s.x_mm - shift < x_c &&
+                (s.phase != Phase::kHold && s.phase != Phase::kRetraction);
     double scale = 1.0;
-    for (std::size_t k = 0; k < terms_.size(); ++k) scale *= terms_[k]->scale(s, p.shared[k].data());
+    for (std::size_t k = 0; k < terms_.size(); ++k)
+      scale *= terms_[k]->scale(s, p.shared[k].data());
     double force = m.baseline(s.x_mm - shift, tip_front_mm, depths) * scale;
     if (tissue != nullptr) (s.after_puncture ? tissue->cut : tissue->precut)[n] = force;
     if (eye != nullptr) force *= 1.0 + (s.after_puncture ? eye->cut_scale : eye->precut_scale);
     double added = 0.0;
-    for (std::size_t k = 0; k < terms_.size(); ++k) added += terms_[k]->add(s, p.shared[k].data(), force);
+    for (std::size_t k = 0; k < terms_.size(); ++k)
+      added += terms_[k]->add(s, p.shared[k].data(), force);
     out[n] = force + added;
-    if ((X != nullptr && linear_columns_ > 0) || (S != nullptr && shared_columns_ > 0)) write_design(s, p, n, X, S, row.data());
+    if ((X != nullptr && linear_columns_ > 0) || (S != nullptr && shared_columns_ > 0))
+      write_design(s, p, n, X, S, row.data());
   }
   if (S == nullptr && shared_columns_ > 0 && p.shared_linear.size() == shared_columns_) {
     // No caller wants the shared columns: apply the known shared coefficients directly.
@@ -96,8 +106,8 @@ void Predictor::evaluate(const PreparedRun& run, const ModelParams& p, const std
 }
 
 // Row n of the design matrices: per-run columns into X, shared ones into S (either may be null).
-void Predictor::write_design(const SampleView& s, const ModelParams& p, std::size_t n, Eigen::MatrixXd* X, Eigen::MatrixXd* S,
-                             double* row) const {
+void Predictor::write_design(const SampleView& s, const ModelParams& p, std::size_t n,
+                             Eigen::MatrixXd* X, Eigen::MatrixXd* S, double* row) const {
   int column = 0;
   int shared_column = 0;
   for (std::size_t k = 0; k < terms_.size(); ++k) {

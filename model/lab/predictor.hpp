@@ -31,8 +31,9 @@ class Predictor {
   // scales the tissue force and shifts the puncture; `tissue` receives the tissue force
   // before the eye's scales, split by where each acts.
   void evaluate(const PreparedRun& run, const ModelParams& p, const std::vector<std::size_t>& rows,
-                std::vector<double>& out, Eigen::MatrixXd* X = nullptr, Eigen::MatrixXd* S = nullptr,
-                const EyeParams* eye = nullptr, EyeColumns* tissue = nullptr) const;
+                std::vector<double>& out, Eigen::MatrixXd* X = nullptr,
+                Eigen::MatrixXd* S = nullptr, const EyeParams* eye = nullptr,
+                EyeColumns* tissue = nullptr) const;
   int linear_columns() const { return linear_columns_; }
   int shared_columns() const { return shared_columns_; }
   const std::vector<const EffectTerm*>& terms() const { return terms_; }
@@ -40,7 +41,8 @@ class Predictor {
   ModelParams initial_params() const;
 
  private:
-  void write_design(const SampleView& s, const ModelParams& p, std::size_t n, Eigen::MatrixXd* X, Eigen::MatrixXd* S, double* row) const;
+  void write_design(const SampleView& s, const ModelParams& p, std::size_t n, Eigen::MatrixXd* X,
+                    Eigen::MatrixXd* S, double* row) const;
   ForceModel model_;
   std::vector<const EffectTerm*> terms_;
   int linear_columns_ = 0;  // per run

@@ -34,7 +34,8 @@ void derive_velocity(PreparedRun& p) {
 double measured_insertion_velocity(const PreparedRun& p) {
   std::vector<double> v;
   for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
-    if (p.data->x_mm[i] > 0.5 && p.data->x_mm[i] < p.seg.max_depth_mm - 0.5) v.push_back(p.velocity_mm_s[i]);
+    if (p.data->x_mm[i] > 0.5 && p.data->x_mm[i] < p.seg.max_depth_mm - 0.5)
+      v.push_back(p.velocity_mm_s[i]);
   }
   return v.empty() ? 1.0 : median(std::move(v));
 }
@@ -47,7 +48,8 @@ double measured_insertion_velocity(const PreparedRun& p) {
 void derive_pauses(PreparedRun& p) {
   constexpr double kHalfWindow_s = 0.05, kMinStop_s = 0.2;
   const RunData& r = *p.data;
-  const std::size_t end = std::min(p.seg.hold_end > p.seg.hold_begin ? p.seg.hold_begin : p.seg.insertion_end, r.size());
+  const std::size_t end = std::min(
+      p.seg.hold_end > p.seg.hold_begin ? p.seg.hold_begin : p.seg.insertion_end, r.size());
   const double slow = 0.5 * std::max(std::abs(p.velocity_cmd_mm_s), 0.05);  // [mm/s]
   p.reload_mm.assign(r.size(), -1.0);
   p.stop_length_s.assign(r.size(), 0.0);
@@ -55,7 +57,8 @@ void derive_pauses(PreparedRun& p) {
   double last_stop_s = 0.0;
   auto close_stop = [&](std::size_t stop_end) {
     if (stop_begin < stop_end && r.t_s[stop_end - 1] - r.t_s[stop_begin] >= kMinStop_s) {
-      for (std::size_t k = stop_begin; k < stop_end; ++k) p.hold_s[k] = r.t_s[k] - r.t_s[stop_begin];
+      for (std::size_t k = stop_begin; k < stop_end; ++k)
+        p.hold_s[k] = r.t_s[k] - r.t_s[stop_begin];
       last_stop_end = stop_end;
       last_stop_s = r.t_s[stop_end - 1] - r.t_s[stop_begin];
     }
@@ -69,7 +72,8 @@ void derive_pauses(PreparedRun& p) {
     for (std::size_t k = lo; k < lo + half; ++k) first += r.x_mm[k];
     for (std::size_t k = hi + 1 - half; k <= hi; ++k) second += r.x_mm[k];
     const double dt = r.t_s[hi + 1 - half + half / 2] - r.t_s[lo + half / 2];
-    const bool stopped = half > 0 && dt > 1e-9 && r.x_mm[i] > 0.0 && std::abs(second - first) / static_cast<double>(half) / dt < slow;
+    const bool stopped = half > 0 && dt > 1e-9 && r.x_mm[i] > 0.0 &&
+                         std::abs(second - first) / static_cast<double>(half) / dt < slow;
     if (stopped && stop_begin == end) stop_begin = i;
     if (!stopped && stop_begin != end) close_stop(i);
     if (stop_begin == end && last_stop_end < i) {  // moving on after a stop: the tissue reloads
@@ -115,8 +119,10 @@ void pack_inputs(PreparedRun& p, const std::vector<double> (&grid_cycles)[2]) {
   p.inputs.resize(r.size());
   for (std::size_t i = 0; i < r.size(); ++i) {
     SampleInputs& in = p.inputs[i];
-    in = {r.x_mm[i], r.t_s[i], r.force_N[i], p.velocity_mm_s[i], p.hold_s[i], p.front_mm[i], {0.0, 0.0}, p.seg.phase[i], p.front_force_N[i], p.mean_force_N[i]};
-    for (int k = 0; k < 2; ++k) in.grid_cycles[k] = i < grid_cycles[k].size() ? grid_cycles[k][i] : std::nan("");
+    in = {r.x_mm[i],     r.t_s[i],   r.force_N[i],   p.velocity_mm_s[i], p.hold_s[i],
+          p.front_mm[i], {0.0, 0.0}, p.seg.phase[i], p.front_force_N[i], p.mean_force_N[i]};
+    for (int k = 0; k < 2; ++k)
+      in.grid_cycles[k] = i < grid_cycles[k].size() ? grid_cycles[k][i] : std::nan("");
   }
   const std::size_t parked = std::min<std::size_t>(r.size(), 20);
   for (std::size_t i = 0; i < parked; ++i) p.parked_mm += r.x_mm[i] / static_cast<double>(parked);
@@ -127,18 +133,20 @@ void pack_inputs(PreparedRun& p, const std::vector<double> (&grid_cycles)[2]) {
 std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::size_t n) {
   if (hi <= lo + 1) return lo;
   // splitmix64 of (stratum, run length): a fixed pseudo-random place in [lo, hi).
-  std::uint64_t z = (static_cast<std::uint64_t>(k) + 1) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(n);
+  std::uint64_t z =
+      (static_cast<std::uint64_t>(k) + 1) * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(n);
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
   z ^= z >> 31;
   return lo + static_cast<std::size_t>(z % (hi - lo));
 }
 
-PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
-  PreparedRun p;
-  p.data = &run;
-  p.seg = detect_phases(run);
-  derive_velocity(p);
+namespace {
+
+// Per sample: the blade's front (deepest point so far, smoothed), the time in the hold and the
+// blade length inserted past the puncture [mm].
+void derive_front_hold_and_inserted(PreparedRun& p) {
+  const RunData& run = *p.data;
   p.hold_s.assign(run.size(), 0.0);
   p.inserted_mm.assign(run.size(), 0.0);
   p.front_mm.assign(run.size(), 0.0);
@@ -160,8 +168,19 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
     if (p.seg.phase[i] == Phase::kRetraction && p.seg.hold_end > p.seg.hold_begin) {
       p.hold_s[i] = run.t_s[p.seg.hold_end - 1] - run.t_s[p.seg.hold_begin];
     }
-    if (p.seg.punctured) p.inserted_mm[i] = std::max(0.0, std::min(run.x_mm[i], deepest) - p.seg.x_pi_mm);
+    if (p.seg.punctured)
+      p.inserted_mm[i] = std::max(0.0, std::min(run.x_mm[i], deepest) - p.seg.x_pi_mm);
   }
+}
+
+}  // namespace
+
+PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
+  PreparedRun p;
+  p.data = &run;
+  p.seg = detect_phases(run);
+  derive_velocity(p);
+  derive_front_hold_and_inserted(p);
   std::size_t first = 0;
   while (first < run.size() && run.x_mm[first] < 0.0) ++first;
   for (std::size_t i = first; i < run.size(); ++i) p.analysed.push_back(i);
@@ -170,7 +189,8 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   // cycle), and rows at one phase see the pick-up as a constant.
   const std::size_t n = p.analysed.size();
   const std::size_t stride = std::max<std::size_t>(1, n / std::max<std::size_t>(max_fit_rows, 1));
-  for (std::size_t lo = 0; lo < n; lo += stride) p.fit_rows.push_back(p.analysed[jittered_row(lo / stride, lo, std::min(n, lo + stride), n)]);
+  for (std::size_t lo = 0; lo < n; lo += stride)
+    p.fit_rows.push_back(p.analysed[jittered_row(lo / stride, lo, std::min(n, lo + stride), n)]);
   std::vector<double> tracked[2];
   for (int k = 0; k < 2; ++k) {
     p.grid_hz[k] = grid_line_hz(run.t_s, run.force_N, first, run.size(), k == 0 ? 50.0 : 60.0);
@@ -178,10 +198,15 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
   }
   p.iop_known = run.number("iop_mmHg").has_value();
   p.iop_mmHg = run.number("iop_mmHg").value_or(15.0);
-  if (!p.iop_known) p.warnings.push_back(run.source + ": no iop_mmHg: the model is evaluated at 15 mmHg and IOP analyses leave this run out");
+  if (!p.iop_known)
+    p.warnings.push_back(
+        run.source +
+        ": no iop_mmHg: the model is evaluated at 15 mmHg and IOP analyses leave this run out");
   p.velocity_known = run.number("velocity_mm_s").has_value();
   p.velocity_cmd_mm_s = run.number("velocity_mm_s").value_or(measured_insertion_velocity(p));
-  if (!p.velocity_known) p.warnings.push_back(run.source + ": no velocity_mm_s: the measured insertion velocity is used");
+  if (!p.velocity_known)
+    p.warnings.push_back(run.source +
+                         ": no velocity_mm_s: the measured insertion velocity is used");
   derive_pauses(p);
   derive_front_force(p);
   p.tears = find_tear_releases(run, p.seg, p.velocity_mm_s, p.velocity_cmd_mm_s);
@@ -196,7 +221,8 @@ PreparedRun prepare_run(const RunData& run, std::size_t max_fit_rows) {
 
 void pack_fit_rows(PreparedRun& run) {
   run.fit_inputs.resize(run.fit_rows.size());
-  for (std::size_t n = 0; n < run.fit_rows.size(); ++n) run.fit_inputs[n] = run.inputs.at(run.fit_rows[n]);
+  for (std::size_t n = 0; n < run.fit_rows.size(); ++n)
+    run.fit_inputs[n] = run.inputs.at(run.fit_rows[n]);
 }
 
 RowBudget row_budget(std::size_t runs, std::size_t samples) {
@@ -213,7 +239,8 @@ void thin_analysed(PreparedRun& run, std::size_t max_rows) {
   std::vector<std::size_t> kept;
   kept.reserve(max_rows);
   const std::size_t n = run.analysed.size();
-  for (std::size_t k = 0; k < max_rows; ++k) kept.push_back(run.analysed[jittered_row(k, k * n / max_rows, (k + 1) * n / max_rows, n)]);
+  for (std::size_t k = 0; k < max_rows; ++k)
+    kept.push_back(run.analysed[jittered_row(k, k * n / max_rows, (k + 1) * n / max_rows, n)]);
   run.analysed = std::move(kept);
 }
 
@@ -226,8 +253,10 @@ void add_run_order(std::vector<PreparedRun>& runs) {
     sessions[session ? *session : started->substr(0, 10)].emplace_back(*started, &run);
   }
   for (auto& [session, members] : sessions) {
-    std::stable_sort(members.begin(), members.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-    for (std::size_t k = 0; k < members.size(); ++k) members[k].second->derived["run_order"] = static_cast<double>(k + 1);
+    std::stable_sort(members.begin(), members.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (std::size_t k = 0; k < members.size(); ++k)
+      members[k].second->derived["run_order"] = static_cast<double>(k + 1);
   }
 }
 

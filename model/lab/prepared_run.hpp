@@ -22,7 +22,9 @@ struct SampleInputs {
   double velocity_mm_s = 0.0;  // as `velocity_mm_s` below
   double hold_s = 0.0;         // as `hold_s` below
   double front_mm = 0.0;       // as `front_mm` below
-  double grid_cycles[2] = {0.0, 0.0};  // the 50 and 60 Hz grid's tracked phase [cycles] (grid_line.hpp), NaN before contact
+  double grid_cycles[2] = {
+      0.0,
+      0.0};  // the 50 and 60 Hz grid's tracked phase [cycles] (grid_line.hpp), NaN before contact
   Phase phase = Phase::kApproach;
   double front_force_N = 0.0;  // as `front_force_N` below
   double mean_force_N = 0.0;   // as `mean_force_N` below
@@ -32,24 +34,32 @@ struct PreparedRun {
   const RunData* data = nullptr;
   Segmentation seg;
   std::vector<double> velocity_mm_s;  // dx/dt over +-10 ms (irregular sampling safe)
-  std::vector<double> hold_s;         // time since the hold (or a stop on the way in) began, 0 outside it
-  std::vector<double> reload_mm;      // after a stop on the way in: advance since it ended [mm], else -1
+  std::vector<double> hold_s;  // time since the hold (or a stop on the way in) began, 0 outside it
+  std::vector<double>
+      reload_mm;  // after a stop on the way in: advance since it ended [mm], else -1
   std::vector<double> stop_length_s;  // ... and that stop's length [s]
   std::vector<double> inserted_mm;    // blade length past the detected puncture (reports)
   std::vector<double> front_mm;       // deepest displacement so far
   std::vector<double> front_force_N;  // measured force when the carriage was last at its front [N]
-  std::vector<double> mean_force_N;   // measured force averaged over +-5 samples [N] (a mount's lag follows it)
-  TearReleases tears;                 // the force's own drops past the puncture, and travel since the last (stick_slip)
+  std::vector<double>
+      mean_force_N;  // measured force averaged over +-5 samples [N] (a mount's lag follows it)
+  TearReleases
+      tears;  // the force's own drops past the puncture, and travel since the last (stick_slip)
   std::vector<std::size_t> analysed;  // from first contact to the end
-  std::vector<std::size_t> fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
-  std::vector<SampleInputs> inputs;   // per sample: a copy of the above, packed for the fits (set last)
-  std::vector<SampleInputs> fit_inputs;  // inputs[fit_rows[n]] in order, read front to back by the fits (pack_fit_rows)
-  double parked_mm = 0.0;             // mean position of the first 20 samples, where the force was tared [mm]
+  std::vector<std::size_t>
+      fit_rows;  // `analysed` thinned to one jittered row per stride, for the nonlinear fits
+  std::vector<SampleInputs>
+      inputs;  // per sample: a copy of the above, packed for the fits (set last)
+  std::vector<SampleInputs>
+      fit_inputs;  // inputs[fit_rows[n]] in order, read front to back by the fits (pack_fit_rows)
+  double parked_mm = 0.0;  // mean position of the first 20 samples, where the force was tared [mm]
   double iop_mmHg = 15.0;
-  double velocity_cmd_mm_s = 2.0;     // insertion velocity (metadata, else measured)
+  double velocity_cmd_mm_s = 2.0;  // insertion velocity (metadata, else measured)
   bool iop_known = false;
   bool velocity_known = false;
-  double grid_hz[2] = {50.0, 60.0};   // the run's own mains lines near 50 and 60 Hz (grid_line.hpp); phases in `inputs`
+  double grid_hz[2] = {
+      50.0,
+      60.0};  // the run's own mains lines near 50 and 60 Hz (grid_line.hpp); phases in `inputs`
   std::map<std::string, double> derived;  // covariates derived from the whole run set (run_order)
   std::vector<std::string> warnings;
   std::map<std::string, double> metadata_numbers;  // the metadata's numeric values, parsed once
@@ -75,10 +85,10 @@ std::size_t jittered_row(std::size_t k, std::size_t lo, std::size_t hi, std::siz
 // Fit rows and scored samples for a set of `runs` runs holding `samples` analysed samples
 // in all: up to 800 fit rows per run while the set is small, fewer (not under 100) beyond
 // 12 runs, so that a fit sees at most ~10,000 rows (100 runs: 100 each, still 10x the most
-// per-run coefficients of any term, and a diagnosis stays under 30 s on 2 cores); every analysed sample is scored up to
-// 250,000 in all, beyond that evenly thinned (100 runs x 15,000 samples: 2,500 per run).
-// 2026-11-28: 16,000 rows and 400,000 scored samples had grown to 40 s with the forms added
-// since 2026-11-24; the zoo's 9-run draws keep 800 rows and every sample.
+// per-run coefficients of any term, and a diagnosis stays under 30 s on 2 cores); every analysed
+// sample is scored up to 250,000 in all, beyond that evenly thinned (100 runs x 15,000 samples:
+// 2,500 per run). 2026-11-28: 16,000 rows and 400,000 scored samples had grown to 40 s with the
+// forms added since 2026-11-24; the zoo's 9-run draws keep 800 rows and every sample.
 struct RowBudget {
   std::size_t fit_rows_per_run = 800;
   std::size_t scored_per_run = 0;  // 0: every analysed sample

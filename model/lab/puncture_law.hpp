@@ -20,7 +20,8 @@
 
 namespace rig::model {
 
-inline constexpr double kLawTolerance_mm = 0.01;  // a round that moves no depth more than this ends the placement
+inline constexpr double kLawTolerance_mm =
+    0.01;  // a round that moves no depth more than this ends the placement
 inline constexpr int kLawMaxRounds = 8;
 
 // The weighted regression of the shifts on X (one row per run; rows with an infinite or
@@ -31,7 +32,8 @@ struct ShiftRegression {
   int runs = 0;                  // runs with a finite variance (the regression's rows)
   bool solved = false;           // enough runs: more than columns
 };
-ShiftRegression regress_shifts(const std::vector<double>& shifts_mm, const std::vector<double>& variances_mm2, const Eigen::MatrixXd& X);
+ShiftRegression regress_shifts(const std::vector<double>& shifts_mm,
+                               const std::vector<double>& variances_mm2, const Eigen::MatrixXd& X);
 
 struct PlacedLaw {
   bool placed = false;
@@ -40,13 +42,15 @@ struct PlacedLaw {
   double tau_mm = 0.0;        // the eyes' own spread the last regression left [mm]
 };
 
-// Whether some term of `predictor` sets the puncture depth by a law (EffectTerm::puncture_regressors).
+// Whether some term of `predictor` sets the puncture depth by a law
+// (EffectTerm::puncture_regressors).
 bool has_puncture_law(const Predictor& predictor, const std::vector<const PreparedRun*>& runs);
 
 // Places the law in `p`: the terms' puncture coefficients and, with `level`, the model's own
 // puncture shift (p.base.x_pi_shift), each held inside its bounds. `betas`: the runs'
 // instrument coefficients (aligned with runs; empty if none are known yet).
-PlacedLaw place_puncture_law(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, ModelParams& p,
+PlacedLaw place_puncture_law(const Predictor& predictor,
+                             const std::vector<const PreparedRun*>& runs, ModelParams& p,
                              const std::vector<Eigen::VectorXd>& betas, bool level);
 
 }  // namespace rig::model

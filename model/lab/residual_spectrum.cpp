@@ -8,7 +8,8 @@
 
 namespace rig::model {
 
-void Spectrum::add(const std::vector<double>& axis, const std::vector<double>& residual, double step, double max_frequency) {
+void Spectrum::add(const std::vector<double>& axis, const std::vector<double>& residual,
+                   double step, double max_frequency) {
   if (axis.size() < 16 || step <= 0.0) return;
   // Resample uniformly (linear interpolation) over the axis' range.
   std::vector<double> uniform;
@@ -17,7 +18,8 @@ void Spectrum::add(const std::vector<double>& axis, const std::vector<double>& r
     while (j + 1 < axis.size() && axis[j + 1] < a) ++j;
     const double span = j + 1 < axis.size() ? axis[j + 1] - axis[j] : 0.0;
     const double w = span > 0.0 ? (a - axis[j]) / span : 0.0;
-    uniform.push_back(j + 1 < axis.size() ? residual[j] * (1.0 - w) + residual[j + 1] * w : residual[j]);
+    uniform.push_back(j + 1 < axis.size() ? residual[j] * (1.0 - w) + residual[j + 1] * w
+                                          : residual[j]);
   }
   double mean = 0.0;
   for (const double v : uniform) mean += v;
@@ -47,13 +49,16 @@ void Spectrum::finish() {
   for (double& a : amplitude) a /= static_cast<double>(runs_);
 }
 
-std::vector<std::pair<double, double>> Spectrum::peaks(std::size_t count, double min_frequency) const {
+std::vector<std::pair<double, double>> Spectrum::peaks(std::size_t count,
+                                                       double min_frequency) const {
   std::vector<std::pair<double, double>> found;
   for (std::size_t k = 1; k + 1 < amplitude.size(); ++k) {
     if (frequency[k] < min_frequency) continue;
-    if (amplitude[k] >= amplitude[k - 1] && amplitude[k] > amplitude[k + 1]) found.emplace_back(frequency[k], amplitude[k]);
+    if (amplitude[k] >= amplitude[k - 1] && amplitude[k] > amplitude[k + 1])
+      found.emplace_back(frequency[k], amplitude[k]);
   }
-  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.second > b.second; });
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.second > b.second; });
   if (found.size() > count) found.resize(count);
   return found;
 }

@@ -9,7 +9,8 @@ namespace rig::model {
 struct Spectrum {
   std::vector<double> frequency;  // [Hz] or [1/mm]
   std::vector<double> amplitude;  // [N]
-  void add(const std::vector<double>& axis, const std::vector<double>& residual, double step, double max_frequency);
+  void add(const std::vector<double>& axis, const std::vector<double>& residual, double step,
+           double max_frequency);
   void finish();
   // Largest local maxima above min_frequency, strongest first.
   std::vector<std::pair<double, double>> peaks(std::size_t count, double min_frequency) const;

@@ -36,7 +36,8 @@ std::string hold_band(double hold_s) {
   return hold_s < 2.0 ? "0.5-2" : "2+";
 }
 
-void best_covariate(const std::vector<const PreparedRun*>& runs, const std::vector<std::vector<double>>& residuals,
+void best_covariate(const std::vector<const PreparedRun*>& runs,
+                    const std::vector<std::vector<double>>& residuals,
                     const std::vector<std::string>& keys, ResidualStructure& out) {
   if (runs.size() < 4) return;  // a correlation over fewer runs means nothing
   std::vector<double> mean_residual;
@@ -47,16 +48,19 @@ void best_covariate(const std::vector<const PreparedRun*>& runs, const std::vect
   }
   for (const std::string& key : keys) {
     std::vector<double> values;
+    values.reserve(runs.size());
     for (const PreparedRun* run : runs) values.push_back(run->covariate(key, 0).value_or(0.0));
     const double c = correlation(values, mean_residual);
-    if (std::abs(c) > std::abs(out.covariate_correlation)) out.covariate = key, out.covariate_correlation = c;
+    if (std::abs(c) > std::abs(out.covariate_correlation))
+      out.covariate = key, out.covariate_correlation = c;
   }
 }
 
 }  // namespace
 
-ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs, const std::vector<std::vector<double>>& residuals,
-                                double floor_N, const std::vector<std::string>& covariates) {
+ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs,
+                                const std::vector<std::vector<double>>& residuals, double floor_N,
+                                const std::vector<std::string>& covariates) {
   std::map<std::string, View> views;
   double total_excess = 0.0;
   const double floor_N2 = floor_N * floor_N;
@@ -87,10 +91,12 @@ ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs, con
     best.share = std::min(1.0, best.share / total_excess);
     out.bins.push_back(best);
   }
-  std::sort(out.bins.begin(), out.bins.end(), [](const ExcessBin& a, const ExcessBin& b) { return a.share > b.share; });
+  std::sort(out.bins.begin(), out.bins.end(),
+            [](const ExcessBin& a, const ExcessBin& b) { return a.share > b.share; });
   best_covariate(runs, residuals, covariates, out);
   // Correlations over few runs are noisy: quote one only above 0.6 and 2/sqrt(runs).
-  out.covariate_threshold = std::max(0.6, 2.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(runs.size(), 1))));
+  out.covariate_threshold =
+      std::max(0.6, 2.0 / std::sqrt(static_cast<double>(std::max<std::size_t>(runs.size(), 1))));
   return out;
 }
 
@@ -98,12 +104,14 @@ std::string ResidualStructure::summary() const {
   std::string out;
   char text[160];
   for (const ExcessBin& b : bins) {
-    std::snprintf(text, sizeof text, "%s%s %s (%.0f %% of the excess, mean residual %+.1f mN)", out.empty() ? "" : "; ",
-                  b.view.c_str(), b.bin.c_str(), 100.0 * b.share, 1000.0 * b.mean_residual_N);
+    std::snprintf(text, sizeof text, "%s%s %s (%.0f %% of the excess, mean residual %+.1f mN)",
+                  out.empty() ? "" : "; ", b.view.c_str(), b.bin.c_str(), 100.0 * b.share,
+                  1000.0 * b.mean_residual_N);
     out += text;
   }
   if (!covariate.empty() && std::abs(covariate_correlation) >= covariate_threshold) {
-    std::snprintf(text, sizeof text, "; runs' mean residual tracks %s (r = %+.2f)", covariate.c_str(), covariate_correlation);
+    std::snprintf(text, sizeof text, "; runs' mean residual tracks %s (r = %+.2f)",
+                  covariate.c_str(), covariate_correlation);
     out += text;
   }
   return out.empty() ? "no part of the data stands above the floor" : out;

@@ -18,15 +18,16 @@ struct ExcessBin {
 };
 
 struct ResidualStructure {
-  std::vector<ExcessBin> bins;           // the leading bin of every view, largest share first
-  std::string covariate;                 // the run covariate best correlated with the runs' mean residual
+  std::vector<ExcessBin> bins;  // the leading bin of every view, largest share first
+  std::string covariate;        // the run covariate best correlated with the runs' mean residual
   double covariate_correlation = 0.0;
-  double covariate_threshold = 1.0;      // |correlation| worth quoting for this many runs
-  std::string summary() const;           // one line for people
+  double covariate_threshold = 1.0;  // |correlation| worth quoting for this many runs
+  std::string summary() const;       // one line for people
 };
 
 // `residuals[r][k]` belongs to runs[r]->analysed[k]; `covariates` are the keys to try.
-ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs, const std::vector<std::vector<double>>& residuals,
-                                double floor_N, const std::vector<std::string>& covariates);
+ResidualStructure locate_excess(const std::vector<const PreparedRun*>& runs,
+                                const std::vector<std::vector<double>>& residuals, double floor_N,
+                                const std::vector<std::string>& covariates);
 
 }  // namespace rig::model

@@ -4,7 +4,8 @@
 
 namespace rig::model {
 
-void MetricsAccumulator::add(double measured, double residual, double x_mm, double t_s, const std::string& run) {
+void MetricsAccumulator::add(double measured, double residual, double x_mm, double t_s,
+                             const std::string& run) {
   ++m_.n;
   m_.sse_N2 += residual * residual;
   sum_y_ += measured;

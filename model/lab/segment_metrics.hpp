@@ -10,7 +10,7 @@ struct SegmentMetrics {
   std::string segment;
   std::size_t n = 0;
   double sse_N2 = 0.0;
-  double r2 = 0.0;        // 1 - SSE/SST (can be low on flat segments, as the paper notes)
+  double r2 = 0.0;  // 1 - SSE/SST (can be low on flat segments, as the paper notes)
   double rmse_N = 0.0;
   double max_abs_N = 0.0;
   double max_at_x_mm = 0.0;

@@ -38,15 +38,19 @@ void read(const nlohmann::json& j, const char* key, double& out, const Limits& l
   if (!j.is_number()) throw ProtoError(key, "expected a number");
   out = j.get<double>();
   if (!std::isfinite(out)) throw ProtoError(key, "not a finite number");
-  if (limits.min && out < *limits.min) throw ProtoError(key, "below the minimum " + nlohmann::json(*limits.min).dump());
-  if (limits.max && out > *limits.max) throw ProtoError(key, "above the maximum " + nlohmann::json(*limits.max).dump());
+  if (limits.min && out < *limits.min)
+    throw ProtoError(key, "below the minimum " + nlohmann::json(*limits.min).dump());
+  if (limits.max && out > *limits.max)
+    throw ProtoError(key, "above the maximum " + nlohmann::json(*limits.max).dump());
 }
 
 void read(const nlohmann::json& j, const char* key, std::int64_t& out, const Limits& limits) {
   if (!j.is_number_integer()) throw ProtoError(key, "expected an integer");
   out = j.get<std::int64_t>();
-  if (limits.min && static_cast<double>(out) < *limits.min) throw ProtoError(key, "below the minimum");
-  if (limits.max && static_cast<double>(out) > *limits.max) throw ProtoError(key, "above the maximum");
+  if (limits.min && static_cast<double>(out) < *limits.min)
+    throw ProtoError(key, "below the minimum");
+  if (limits.max && static_cast<double>(out) > *limits.max)
+    throw ProtoError(key, "above the maximum");
 }
 
 void read(const nlohmann::json& j, const char* key, bool& out, const Limits&) {
@@ -66,7 +70,8 @@ void read(const nlohmann::json& j, const char* key, std::string& out, const Limi
   if (limits.pattern != nullptr) {
     static thread_local std::unordered_map<const char*, std::regex> compiled;
     auto it = compiled.find(limits.pattern);
-    if (it == compiled.end()) it = compiled.emplace(limits.pattern, std::regex(limits.pattern)).first;
+    if (it == compiled.end())
+      it = compiled.emplace(limits.pattern, std::regex(limits.pattern)).first;
     if (!std::regex_match(out, it->second)) {
       throw ProtoError(key, std::string("does not match ") + limits.pattern);
     }
@@ -83,7 +88,8 @@ void read(const nlohmann::json& j, const char* key, std::map<std::string, std::s
   out.clear();
   for (const auto& [k, v] : j.items()) {
     const std::string item = std::string(key) + "." + k;
-    if (!std::regex_match(k, kKey)) throw ProtoError(item, "keys are lower_snake_case with a unit suffix, e.g. temperature_C");
+    if (!std::regex_match(k, kKey))
+      throw ProtoError(item, "keys are lower_snake_case with a unit suffix, e.g. temperature_C");
     if (!v.is_string() && !v.is_number()) throw ProtoError(item, "expected a string or a number");
     std::string value = v.is_string() ? v.get<std::string>() : v.dump();
     if (value.size() > 256 || value.find_first_of("\r\n") != std::string::npos) {

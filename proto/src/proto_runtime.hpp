@@ -29,7 +29,8 @@ void read(const nlohmann::json& j, const char* key, double& out, const Limits& l
 void read(const nlohmann::json& j, const char* key, std::int64_t& out, const Limits& limits);
 void read(const nlohmann::json& j, const char* key, bool& out, const Limits& limits);
 void read(const nlohmann::json& j, const char* key, std::string& out, const Limits& limits);
-void read(const nlohmann::json& j, const char* key, std::map<std::string, std::string>& out, const Limits& limits);
+void read(const nlohmann::json& j, const char* key, std::map<std::string, std::string>& out,
+          const Limits& limits);
 
 template <typename T>
 void read(const nlohmann::json& j, const char* key, std::vector<T>& out, const Limits& limits) {
@@ -63,7 +64,8 @@ void read_field(const nlohmann::json& j, const char* key, T& out, const Limits& 
 }
 
 template <typename T>
-void read_field(const nlohmann::json& j, const char* key, std::optional<T>& out, const Limits& limits) {
+void read_field(const nlohmann::json& j, const char* key, std::optional<T>& out,
+                const Limits& limits) {
   const nlohmann::json* value = field(j, key, false);
   if (value == nullptr || value->is_null()) {
     out.reset();

@@ -44,8 +44,11 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
   }
   model::RunData data;
   data.source = "sim:" + spec.eye_id;
-  data.meta = {{"eye_id", spec.eye_id}, {"iop_mmHg", number(spec.iop_mmHg)}, {"velocity_mm_s", number(spec.velocity_mm_s)},
-               {"depth_mm", number(spec.depth_mm)}, {"hold_s", number(spec.hold_s)},
+  data.meta = {{"eye_id", spec.eye_id},
+               {"iop_mmHg", number(spec.iop_mmHg)},
+               {"velocity_mm_s", number(spec.velocity_mm_s)},
+               {"depth_mm", number(spec.depth_mm)},
+               {"hold_s", number(spec.hold_s)},
                {options.covariate_key, number(spec.covariate_value)}};
   for (const auto& [key, value] : spec.extra_meta) data.meta.emplace_back(key, number(value));
   model::Channel iop{"iop_meas_mmHg", {}};
@@ -72,8 +75,10 @@ void apply_standard_protocol(RunSpec& spec) {
   spec.pause_s[1] = 2.0;
 }
 
-std::vector<RunSpec> design_runs(const std::vector<double>& iops, const std::vector<double>& velocities,
-                                 const std::vector<double>& covariates, double depth_mm, double hold_s, std::uint64_t seed) {
+std::vector<RunSpec> design_runs(const std::vector<double>& iops,
+                                 const std::vector<double>& velocities,
+                                 const std::vector<double>& covariates, double depth_mm,
+                                 double hold_s, std::uint64_t seed) {
   std::vector<RunSpec> out;
   std::size_t k = 0;
   for (const double iop : iops) {

@@ -25,7 +25,7 @@ struct RunSpec {
   // Stops on the way in [mm from the surface], each held pause_s[k] seconds (0 = none).
   double pause_depth_mm[2] = {0.0, 0.0};
   double pause_s[2] = {0.0, 0.0};
-  double covariate_value = 2.0;  // the eye's value of the covariate (post-mortem hours)
+  double covariate_value = 2.0;              // the eye's value of the covariate (post-mortem hours)
   std::map<std::string, double> extra_meta;  // more numeric metadata (other covariates)
   std::uint64_t seed = 1;
   std::string eye_id;
@@ -55,7 +55,9 @@ model::RunData generate_run(const GeneratorOptions& options, const RunSpec& spec
 
 // A balanced design: every IOP x velocity, covariate values spread over the runs; with
 // `standard_protocol`, depth and hold are replaced by apply_standard_protocol.
-std::vector<RunSpec> design_runs(const std::vector<double>& iops, const std::vector<double>& velocities,
-                                 const std::vector<double>& covariates, double depth_mm, double hold_s, std::uint64_t seed);
+std::vector<RunSpec> design_runs(const std::vector<double>& iops,
+                                 const std::vector<double>& velocities,
+                                 const std::vector<double>& covariates, double depth_mm,
+                                 double hold_s, std::uint64_t seed);
 
 }  // namespace rig::sim

@@ -72,14 +72,18 @@ void SimulatedRig::drain(std::vector<rt::Sample>& samples, std::vector<rt::Event
 
 RecordedRun SimulatedRig::record_run(const rt::RunParams& params, double timeout_s) {
   RecordedRun run;
-  auto is = [](rt::RunState s) { return [s](const rt::StatusSnapshot& st) { return st.state == s; }; };
+  auto is = [](rt::RunState s) {
+    return [s](const rt::StatusSnapshot& st) { return st.state == s; };
+  };
   if (!status().homed || status().state != rt::RunState::kReady) {
     command(rt::CommandKind::kHome);
-    if (!run_until(is(rt::RunState::kReady), 60.0)) throw std::runtime_error("simulated rig did not home");
+    if (!run_until(is(rt::RunState::kReady), 60.0))
+      throw std::runtime_error("simulated rig did not home");
   }
   if (!status().tared) {
     command(rt::CommandKind::kTare);
-    if (!run_until([](const rt::StatusSnapshot& st) { return st.tared; }, 5.0)) throw std::runtime_error("tare did not finish");
+    if (!run_until([](const rt::StatusSnapshot& st) { return st.tared; }, 5.0))
+      throw std::runtime_error("tare did not finish");
   }
   drain(run.samples, run.events);
   run.samples.clear();
@@ -90,9 +94,12 @@ RecordedRun SimulatedRig::record_run(const rt::RunParams& params, double timeout
   if (armed != rt::CommandResult::kAccepted) {
     throw std::runtime_error("arm " + std::string(rt::to_string(armed)));
   }
-  const bool ended = run_until([](const rt::StatusSnapshot& st) {
-    return st.state == rt::RunState::kDone || st.state == rt::RunState::kFault || st.state == rt::RunState::kEStop;
-  }, timeout_s);
+  const bool ended = run_until(
+      [](const rt::StatusSnapshot& st) {
+        return st.state == rt::RunState::kDone || st.state == rt::RunState::kFault ||
+               st.state == rt::RunState::kEStop;
+      },
+      timeout_s);
   drain(run.samples, run.events);
   run.final_status = status();
   if (!ended) throw std::runtime_error("simulated run did not end within the time-out");

@@ -27,7 +27,8 @@ class SimulatedRig {
  public:
   SimulatedRig(const PhysicsParams& physics, const std::vector<HiddenEffect>& effects,
                const rt::LoopSettings& loop);
-  explicit SimulatedRig(const PhysicsParams& physics = {}, const std::vector<HiddenEffect>& effects = {});
+  explicit SimulatedRig(const PhysicsParams& physics = {},
+                        const std::vector<HiddenEffect>& effects = {});
 
   // Sends a command and runs cycles until the loop has answered it.
   rt::CommandResult command(rt::CommandKind kind, const rt::RunParams& params = {});

@@ -18,8 +18,10 @@ class LatencyTally {
     if (ns >= 5'000'000) over_5ms_.fetch_add(1, std::memory_order_relaxed);
   }
   std::string summary() const {
-    return "n=" + std::to_string(count_.load()) + " max_us=" + std::to_string(max_ns_.load() / 1000) +
-           " over_1ms=" + std::to_string(over_1ms_.load()) + " over_5ms=" + std::to_string(over_5ms_.load());
+    return "n=" + std::to_string(count_.load()) +
+           " max_us=" + std::to_string(max_ns_.load() / 1000) +
+           " over_1ms=" + std::to_string(over_1ms_.load()) +
+           " over_5ms=" + std::to_string(over_5ms_.load());
   }
 
  private:

@@ -10,8 +10,8 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -33,12 +33,14 @@ ModbusSimServer::ModbusSimServer(RigPhysics& physics, const SimServerOptions& op
       ctx_(modbus_new_tcp(options.bind.c_str(), options.port)),
       mapping_(modbus_mapping_new(0, 0, reg::kMapSize, reg::kMapSize)),
       heartbeat_(options.heartbeat_fd, options.heartbeat_ms) {
-  if (!ctx_ || !mapping_) throw std::runtime_error("rig-sim: cannot create the Modbus server: " + std::string(modbus_strerror(errno)));
+  if (!ctx_ || !mapping_)
+    throw std::runtime_error("rig-sim: cannot create the Modbus server: " +
+                             std::string(modbus_strerror(errno)));
   modbus_set_slave(ctx_.get(), reg::kUnitId);
   listen_fd_ = modbus_tcp_listen(ctx_.get(), 16);
   if (listen_fd_ < 0) {
-    throw std::runtime_error("rig-sim: cannot listen on " + options.bind + ":" + std::to_string(options.port) +
-                             ": " + modbus_strerror(errno));
+    throw std::runtime_error("rig-sim: cannot listen on " + options.bind + ":" +
+                             std::to_string(options.port) + ": " + modbus_strerror(errno));
   }
   sockaddr_in address{};
   socklen_t length = sizeof address;
@@ -47,7 +49,8 @@ ModbusSimServer::ModbusSimServer(RigPhysics& physics, const SimServerOptions& op
   if (!options.rtu_device.empty()) {
     rtu_ctx_.reset(modbus_new_rtu(options.rtu_device.c_str(), options.rtu_baud, 'N', 8, 1));
     if (!rtu_ctx_ || modbus_connect(rtu_ctx_.get()) != 0) {
-      throw std::runtime_error("rig-sim: cannot open the RTU line " + options.rtu_device + ": " + modbus_strerror(errno));
+      throw std::runtime_error("rig-sim: cannot open the RTU line " + options.rtu_device + ": " +
+                               modbus_strerror(errno));
     }
     modbus_set_slave(rtu_ctx_.get(), reg::kUnitId);
   }
@@ -67,7 +70,9 @@ double ModbusSimServer::wall_time_s() const {
 
 namespace {
 std::int64_t steady_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 }  // namespace
 
@@ -104,15 +109,20 @@ void ModbusSimServer::refresh_registers() {
   reg::encode_f32(static_cast<float>(truth.carriage_mm), in + reg::sim_truth::kCarriageMm);
   reg::encode_f32(static_cast<float>(truth.force_N), in + reg::sim_truth::kForceN);
   in[reg::sim_truth::kMotorPowered] = truth.motor_powered ? 1 : 0;
-  reg::encode_u32(truth.motor_off_time_s < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(truth.motor_off_time_s * 1e6),
+  reg::encode_u32(truth.motor_off_time_s < 0
+                      ? 0xFFFFFFFFU
+                      : static_cast<std::uint32_t>(truth.motor_off_time_s * 1e6),
                   in + reg::sim_truth::kMotorOffTimeUs);
-  reg::encode_u32(static_cast<std::uint32_t>(truth.accountable_time_s * 1e6), in + reg::sim_truth::kSimTimeUs);
+  reg::encode_u32(static_cast<std::uint32_t>(truth.accountable_time_s * 1e6),
+                  in + reg::sim_truth::kSimTimeUs);
   reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
 }
 
 namespace {
 // A panel float the test wrote; NaN or infinity (garbage written) means "no injection".
-double finite_or_zero(float value) { return std::isfinite(value) ? value : 0.0; }
+double finite_or_zero(float value) {
+  return std::isfinite(value) ? value : 0.0;
+}
 }  // namespace
 
 void ModbusSimServer::apply_writes() {
@@ -125,7 +135,8 @@ void ModbusSimServer::apply_writes() {
   faults.home_limit_forced = h[reg::sim_panel::kHomeLimitForced] != 0;
   faults.drive_fault = h[reg::sim_panel::kDriveFault] != 0;
   faults.carriage_jammed = h[reg::sim_panel::kCarriageJammed] != 0;
-  faults.position_offset_mm = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm));
+  faults.position_offset_mm =
+      finite_or_zero(reg::decode_f32(h + reg::sim_panel::kPositionOffsetMm));
   // Clamped to 0..1 by the IOP line: a fraction of the pressure, never more than all of it.
   faults.iop_leak_fraction = finite_or_zero(reg::decode_f32(h + reg::sim_panel::kIopLeak));
   faults.home_switch_broken = h[reg::sim_panel::kHomeSwitchBroken] != 0;
@@ -189,11 +200,13 @@ ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
   if (garbage && function == MODBUS_FC_READ_INPUT_REGISTERS) {
     std::fill_n(mapping_->tab_input_registers, reg::input::kCount, std::uint16_t{0xFFFF});
   }
-  const bool write = function == MODBUS_FC_WRITE_SINGLE_REGISTER || function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
+  const bool write = function == MODBUS_FC_WRITE_SINGLE_REGISTER ||
+                     function == MODBUS_FC_WRITE_MULTIPLE_REGISTERS ||
                      function == MODBUS_FC_WRITE_AND_READ_REGISTERS;
   if (write && address < reg::holding::kCount && physics_->faults().writes_rejected) {
     // The DAQ answers but refuses its outputs (exception 4, server device failure).
-    const int refused = modbus_reply_exception(ctx, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
+    const int refused =
+        modbus_reply_exception(ctx, query, MODBUS_EXCEPTION_SLAVE_OR_SERVER_FAILURE);
     return refused < 0 ? Served::kPeerGone : Served::kOk;
   }
   const int rc = modbus_reply(ctx, query, length, mapping_.get());
@@ -205,7 +218,8 @@ ModbusSimServer::Served ModbusSimServer::serve_request(_modbus* ctx) {
       drivers::DigitalOutputs digital;
       drive.motor_enable = (h[reg::holding::kDigitalOutputs] & reg::output_bit::kMotorEnable) != 0;
       digital.motor_enable = drive.motor_enable;
-      digital.camera_trigger = (h[reg::holding::kDigitalOutputs] & reg::output_bit::kCameraTrigger) != 0;
+      digital.camera_trigger =
+          (h[reg::holding::kDigitalOutputs] & reg::output_bit::kCameraTrigger) != 0;
       drive.motor_volts = reg::decode_f32(h + reg::holding::kMotorVolts);
       drive.pump_command = reg::decode_f32(h + reg::holding::kPumpCommand);
       if (!std::isfinite(drive.motor_volts) || !std::isfinite(drive.pump_command)) drive = {};
@@ -247,7 +261,9 @@ void ModbusSimServer::physics_thread(const std::atomic<bool>& stop) {
     const auto woke = std::chrono::steady_clock::now();
     if (next < woke) next = woke;  // after a stall: carry on from now, do not burst
     std::this_thread::sleep_until(next);
-    physics_lateness_.record(std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - next).count());
+    physics_lateness_.record(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                 std::chrono::steady_clock::now() - next)
+                                 .count());
     heartbeat_.tick(steady_ns());
     std::lock_guard lock(mutex_);
     refresh_registers();
@@ -286,7 +302,8 @@ void ModbusSimServer::run(const std::atomic<bool>& stop) {
     if (rtu_fd >= 0 && FD_ISSET(rtu_fd, &read_set)) serve_rtu();
     const std::vector<int> snapshot = clients;
     for (const int fd : snapshot) {
-      if (FD_ISSET(fd, &read_set) && std::find(clients.begin(), clients.end(), fd) != clients.end()) serve_client(fd, clients);
+      if (FD_ISSET(fd, &read_set) && std::find(clients.begin(), clients.end(), fd) != clients.end())
+        serve_client(fd, clients);
     }
   }
   drop_all(clients);

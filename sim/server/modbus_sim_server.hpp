@@ -1,8 +1,8 @@
 #pragma once
-// rig-sim's Modbus TCP (and optionally RTU) server: the simulated rig's DAQ behind the real register map
-// (proto/include/rig/proto/daq_register_map.hpp). Any Modbus client can talk to it: rigd,
-// mbpoll, a lab's own tools. Physics advances on every request (a DAQ converts
-// continuously) and in the background, so the DAQ watchdog runs without requests too.
+// rig-sim's Modbus TCP (and optionally RTU) server: the simulated rig's DAQ behind the real
+// register map (proto/include/rig/proto/daq_register_map.hpp). Any Modbus client can talk to it:
+// rigd, mbpoll, a lab's own tools. Physics advances on every request (a DAQ converts continuously)
+// and in the background, so the DAQ watchdog runs without requests too.
 #include <atomic>
 #include <memory>
 #include <mutex>
@@ -14,8 +14,11 @@
 #include "latency_tally.hpp"
 #include "rig/sim/rig_physics.hpp"
 
+// The C library's own struct tags, declared here so the header need not include it.
+// NOLINTBEGIN(bugprone-reserved-identifier)
 struct _modbus;
 struct _modbus_mapping_t;
+// NOLINTEND(bugprone-reserved-identifier)
 
 namespace rig::sim {
 
@@ -83,7 +86,7 @@ class ModbusSimServer {
   LatencyTally reply_time_;
   LatencyTally reply_gap_;
   LatencyTally physics_lateness_;
-  HeartbeatWriter heartbeat_;  // written by the physics thread, fed by the server thread
+  HeartbeatWriter heartbeat_;       // written by the physics thread, fed by the server thread
   std::int64_t last_reply_ns_ = 0;  // steady clock, server thread only
 };
 

@@ -22,9 +22,12 @@ struct __attribute__((packed)) InterfaceDescriptors {
 
 constexpr InterfaceDescriptors interface_descriptors(std::uint16_t max_packet) {
   InterfaceDescriptors d{};
-  d.interface = {sizeof(usb_interface_descriptor), USB_DT_INTERFACE, 0, 0, 2, USB_CLASS_VENDOR_SPEC, 0, 0, 1};
-  d.in = {USB_DT_ENDPOINT_SIZE, USB_DT_ENDPOINT, 1 | USB_DIR_IN, USB_ENDPOINT_XFER_BULK, max_packet, 0};
-  d.out = {USB_DT_ENDPOINT_SIZE, USB_DT_ENDPOINT, 2 | USB_DIR_OUT, USB_ENDPOINT_XFER_BULK, max_packet, 0};
+  d.interface = {
+      sizeof(usb_interface_descriptor), USB_DT_INTERFACE, 0, 0, 2, USB_CLASS_VENDOR_SPEC, 0, 0, 1};
+  d.in = {USB_DT_ENDPOINT_SIZE,   USB_DT_ENDPOINT, 1 | USB_DIR_IN,
+          USB_ENDPOINT_XFER_BULK, max_packet,      0};
+  d.out = {USB_DT_ENDPOINT_SIZE,   USB_DT_ENDPOINT, 2 | USB_DIR_OUT,
+           USB_ENDPOINT_XFER_BULK, max_packet,      0};
   return d;
 }
 
@@ -48,15 +51,18 @@ int open_or_throw(const std::string& path) {
 }
 
 void write_or_throw(int fd, const void* data, std::size_t size, const std::string& what) {
-  if (::write(fd, data, size) != static_cast<ssize_t>(size)) throw std::runtime_error(what + ": " + std::strerror(errno));
+  if (::write(fd, data, size) != static_cast<ssize_t>(size))
+    throw std::runtime_error(what + ": " + std::strerror(errno));
 }
 
 }  // namespace
 
-FunctionFsGadget::FunctionFsGadget(const std::string& dir, Handler handler) : dir_(dir), handler_(std::move(handler)) {
+FunctionFsGadget::FunctionFsGadget(const std::string& dir, Handler handler)
+    : dir_(dir), handler_(std::move(handler)) {
   ep0_ = open_or_throw(dir + "/ep0");
   Descriptors d{};
-  d.header = {FUNCTIONFS_DESCRIPTORS_MAGIC_V2, sizeof(Descriptors), FUNCTIONFS_HAS_FS_DESC | FUNCTIONFS_HAS_HS_DESC};
+  d.header = {FUNCTIONFS_DESCRIPTORS_MAGIC_V2, sizeof(Descriptors),
+              FUNCTIONFS_HAS_FS_DESC | FUNCTIONFS_HAS_HS_DESC};
   d.full_speed_count = 3;
   d.high_speed_count = 3;
   d.full_speed = interface_descriptors(64);
@@ -91,8 +97,10 @@ void FunctionFsGadget::watch_ep0() {
     for (std::size_t i = 0; i < static_cast<std::size_t>(n) / sizeof events[0]; ++i) {
       if (events[i].type != FUNCTIONFS_SETUP) continue;
       // No control requests are defined: stall them (a zero-length transfer the wrong way).
-      if ((events[i].u.setup.bRequestType & USB_DIR_IN) != 0) (void)!::write(ep0_, nullptr, 0);
-      else (void)!::read(ep0_, nullptr, 0);
+      if ((events[i].u.setup.bRequestType & USB_DIR_IN) != 0)
+        (void)!::write(ep0_, nullptr, 0);
+      else
+        (void)!::read(ep0_, nullptr, 0);
     }
   }
 }
@@ -106,10 +114,14 @@ void FunctionFsGadget::serve(const std::atomic<bool>& stop) {
     const ssize_t n = ::read(ep_out_, request.data(), request.size());
     if (n < 0) {
       // ESHUTDOWN while the host is gone (UDC unbound, cable pulled): wait for it.
-      if (errno == EINTR || errno == ESHUTDOWN || errno == EAGAIN) { ::usleep(1000); continue; }
+      if (errno == EINTR || errno == ESHUTDOWN || errno == EAGAIN) {
+        ::usleep(1000);
+        continue;
+      }
       throw std::runtime_error(dir_ + "/ep2: " + std::strerror(errno));
     }
-    const std::size_t length = handler_(std::span<const std::uint8_t>(request.data(), static_cast<std::size_t>(n)), response);
+    const std::size_t length = handler_(
+        std::span<const std::uint8_t>(request.data(), static_cast<std::size_t>(n)), response);
     if (length > 0 && ::write(ep_in_, response.data(), length) < 0 && errno != ESHUTDOWN)
       throw std::runtime_error(dir_ + "/ep1: " + std::strerror(errno));
   }

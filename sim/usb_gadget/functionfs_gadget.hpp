@@ -16,7 +16,8 @@ namespace rig::sim {
 
 class FunctionFsGadget {
  public:
-  using Handler = std::function<std::size_t(std::span<const std::uint8_t>, drivers::usbdaq::Message&)>;
+  using Handler =
+      std::function<std::size_t(std::span<const std::uint8_t>, drivers::usbdaq::Message&)>;
 
   // dir: where the function's FunctionFS instance is mounted. Writes the descriptors and
   // opens the endpoints; throws naming the file (setup only).

@@ -10,7 +10,9 @@
 
 namespace {
 std::atomic<bool> g_stop{false};
-void on_signal(int) { g_stop.store(true); }
+void on_signal(int) {
+  g_stop.store(true);
+}
 double monotonic_s() {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -29,7 +31,8 @@ int main(int argc, char** argv) {
     rig::sim::RigPhysics physics(rig::sim::PhysicsParams{});
     rig::sim::UsbDaqDevice device(physics);
     const double start = monotonic_s();
-    rig::sim::FunctionFsGadget gadget(argv[1], [&](std::span<const std::uint8_t> request, rig::drivers::usbdaq::Message& response) {
+    rig::sim::FunctionFsGadget gadget(argv[1], [&](std::span<const std::uint8_t> request,
+                                                   rig::drivers::usbdaq::Message& response) {
       return device.handle(request, response, monotonic_s() - start);
     });
     std::printf("rig-usb-gadget: descriptors written to %s/ep0, serving\n", argv[1]);

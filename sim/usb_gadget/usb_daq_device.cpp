@@ -4,7 +4,8 @@ namespace rig::sim {
 
 namespace usbdaq = drivers::usbdaq;
 
-std::size_t UsbDaqDevice::handle(std::span<const std::uint8_t> request, usbdaq::Message& response, double now_s) {
+std::size_t UsbDaqDevice::handle(std::span<const std::uint8_t> request, usbdaq::Message& response,
+                                 double now_s) {
   const auto header = usbdaq::decode_header(request);
   if (!header || header->response) return 0;
   const std::lock_guard lock(mutex_);
@@ -13,12 +14,14 @@ std::size_t UsbDaqDevice::handle(std::span<const std::uint8_t> request, usbdaq::
   const auto payload = request.subspan(usbdaq::kHeaderSize);
   switch (header->opcode) {
     case usbdaq::Opcode::kHello: {
-      if (!payload.empty()) return usbdaq::encode_response(response, *header, usbdaq::Status::kBadLength);
+      if (!payload.empty())
+        return usbdaq::encode_response(response, *header, usbdaq::Status::kBadLength);
       const auto reply = usbdaq::encode(usbdaq::HelloReply{});
       return usbdaq::encode_response(response, *header, usbdaq::Status::kOk, reply);
     }
     case usbdaq::Opcode::kReadInputs: {
-      if (!payload.empty()) return usbdaq::encode_response(response, *header, usbdaq::Status::kBadLength);
+      if (!payload.empty())
+        return usbdaq::encode_response(response, *header, usbdaq::Status::kBadLength);
       const drivers::AnalogFrame frame = physics_->analog_frame();
       const drivers::DigitalInputs in = physics_->digital_inputs();
       usbdaq::InputsReply reply;
@@ -26,8 +29,9 @@ std::size_t UsbDaqDevice::handle(std::span<const std::uint8_t> request, usbdaq::
       reply.force_volts = static_cast<float>(frame.force_volts);
       reply.position_volts = static_cast<float>(frame.position_volts);
       reply.iop_volts = static_cast<float>(frame.iop_volts);
-      reply.digital = static_cast<std::uint16_t>((in.home_limit ? 1U : 0U) | (in.end_limit ? 2U : 0U) | (in.estop ? 4U : 0U) |
-                                                 (in.drive_fault ? 8U : 0U));
+      reply.digital =
+          static_cast<std::uint16_t>((in.home_limit ? 1U : 0U) | (in.end_limit ? 2U : 0U) |
+                                     (in.estop ? 4U : 0U) | (in.drive_fault ? 8U : 0U));
       reply.flags = physics_->truth().watchdog_tripped ? 1U : 0U;
       return usbdaq::encode_response(response, *header, usbdaq::Status::kOk, usbdaq::encode(reply));
     }

@@ -16,7 +16,8 @@ class UsbDaqDevice {
   explicit UsbDaqDevice(RigPhysics& physics) : physics_(&physics) {}
   // One request in, one response out; returns the response length [B] (0 = ignore the
   // request: not even a header to answer). now_s: the device's clock [s].
-  std::size_t handle(std::span<const std::uint8_t> request, drivers::usbdaq::Message& response, double now_s);
+  std::size_t handle(std::span<const std::uint8_t> request, drivers::usbdaq::Message& response,
+                     double now_s);
   std::uint64_t requests() const { return requests_; }
 
  private:

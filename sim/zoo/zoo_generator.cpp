@@ -12,24 +12,24 @@
 
 namespace rig::zoo {
 
-using LawFactory = std::function<std::shared_ptr<const sim::ExtraForce>(const sim::RunSpec&, double size)>;
+using LawFactory =
+    std::function<std::shared_ptr<const sim::ExtraForce>(const sim::RunSpec&, double size)>;
 
 struct Recipe {
   DrawKind kind = DrawKind::kClean;
   std::string family = "clean", form = "no effect";
   std::vector<std::string> expected = {"none"};
   std::vector<sim::HiddenEffect> effects;  // at size 1
-  std::vector<double> effect_scale;        // each effect's size relative to the draw's (empty: all 1)
-  LawFactory law;                          // or nullptr
-  double target = 0.0;                     // wanted magnitude [x noise]
+  std::vector<double> effect_scale;  // each effect's size relative to the draw's (empty: all 1)
+  LawFactory law;                    // or nullptr
+  double target = 0.0;               // wanted magnitude [x noise]
 };
 
 namespace {
 
-constexpr double kNoise_N = 0.0015;   // the simulated load cell's white noise (SensorParams)
-constexpr double kMaxSize = 25.0;      // never scale a form beyond this (its law would be absurd)
+constexpr double kNoise_N = 0.0015;  // the simulated load cell's white noise (SensorParams)
+constexpr double kMaxSize = 25.0;    // never scale a form beyond this (its law would be absurd)
 const char* const kCovariateKeys[] = {"post_mortem_h", "temperature_C", "blade_uses"};
-
 
 double covariate_of(const sim::RunSpec& spec, const std::string& key) {
   if (key == "post_mortem_h") return spec.covariate_value;
@@ -64,7 +64,8 @@ std::function<double(double)> draw_link(sim::RandomSource& rng, std::string& wor
 }
 
 Window draw_window(sim::RandomSource& rng, std::initializer_list<Window> choices) {
-  const auto index = static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(choices.size())));
+  const auto index =
+      static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(choices.size())));
   return *(choices.begin() + static_cast<std::ptrdiff_t>(std::min(index, choices.size() - 1)));
 }
 
@@ -72,11 +73,16 @@ Window draw_window(sim::RandomSource& rng, std::initializer_list<Window> choices
 
 std::string kind_name(DrawKind kind) {
   switch (kind) {
-    case DrawKind::kClean: return "clean";
-    case DrawKind::kCatalogueForm: return "catalogue family, simulator form";
-    case DrawKind::kZooLaw: return "catalogue family, random law";
-    case DrawKind::kOutOfCatalogue: return "out of catalogue";
-    case DrawKind::kMixture: return "mixture";
+    case DrawKind::kClean:
+      return "clean";
+    case DrawKind::kCatalogueForm:
+      return "catalogue family, simulator form";
+    case DrawKind::kZooLaw:
+      return "catalogue family, random law";
+    case DrawKind::kOutOfCatalogue:
+      return "out of catalogue";
+    case DrawKind::kMixture:
+      return "mixture";
   }
   return "?";
 }
@@ -87,7 +93,9 @@ std::vector<sim::RunSpec> ZooGenerator::run_specs(std::uint64_t seed) const {
   const double velocities[3] = {0.6, 1.4, 3.2};
   std::vector<int> order(static_cast<std::size_t>(o_.runs));
   for (int k = 0; k < o_.runs; ++k) order[static_cast<std::size_t>(k)] = k;
-  for (int k = o_.runs - 1; k > 0; --k) std::swap(order[static_cast<std::size_t>(k)], order[static_cast<std::size_t>(rng.uniform(0.0, k + 0.999))]);
+  for (int k = o_.runs - 1; k > 0; --k)
+    std::swap(order[static_cast<std::size_t>(k)],
+              order[static_cast<std::size_t>(rng.uniform(0.0, k + 0.999))]);
   std::vector<sim::RunSpec> specs;
   for (int k = 0; k < o_.runs; ++k) {
     sim::RunSpec s;
@@ -96,7 +104,8 @@ std::vector<sim::RunSpec> ZooGenerator::run_specs(std::uint64_t seed) const {
     sim::apply_standard_protocol(s);
     s.covariate_value = rng.uniform(0.5, 3.5);  // post_mortem_h
     s.extra_meta["temperature_C"] = rng.uniform(19.0, 25.0);
-    s.extra_meta["blade_uses"] = order[static_cast<std::size_t>(k)];  // the blade's cuts before this one
+    s.extra_meta["blade_uses"] =
+        order[static_cast<std::size_t>(k)];  // the blade's cuts before this one
     s.seed = seed * 1000 + static_cast<std::uint64_t>(k);
     s.eye_id = "ZOO-" + std::to_string(seed) + "-" + std::to_string(k);
     specs.push_back(s);
@@ -110,16 +119,20 @@ sim::HiddenEffect draw_sim_effect(sim::RandomSource& rng, int kind) {
   sim::HiddenEffect e;
   e.kind = static_cast<sim::EffectKind>(kind);
   const auto forms = sim::effect_forms(e.kind);
-  e.form = forms[std::min(forms.size() - 1, static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(forms.size()))))];
+  e.form = forms[std::min(forms.size() - 1, static_cast<std::size_t>(rng.uniform(
+                                                0.0, static_cast<double>(forms.size()))))];
   if (e.kind == sim::EffectKind::kCovariate) e.covariate = "post_mortem_h";
   return e;
 }
 
 std::string verdict_of(const sim::HiddenEffect& e) {
-  return e.kind == sim::EffectKind::kCovariate ? "covariate:" + e.covariate : sim::effect_name(e.kind);
+  return e.kind == sim::EffectKind::kCovariate ? "covariate:" + e.covariate
+                                               : sim::effect_name(e.kind);
 }
 
-int draw_family(sim::RandomSource& rng) { return static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1e-9)); }
+int draw_family(sim::RandomSource& rng) {
+  return static_cast<int>(rng.uniform(0.0, sim::kEffectKindCount - 1e-9));
+}
 
 void catalogue_form(Recipe& r, sim::RandomSource& rng) {
   r.kind = DrawKind::kCatalogueForm;
@@ -136,13 +149,18 @@ void zoo_law(Recipe& r, sim::RandomSource& rng, int runs) {
     const Window window = draw_window(rng, {Window::kAllInsert, Window::kCutInsert});
     r.family = "rate_dependence";
     r.form = "random law in velocity, " + window_name(window);
-    r.law = [law, window](const sim::RunSpec&, double size) { return std::make_shared<VelocityScaledLaw>(law, window, 0.1 * size); };
+    r.law = [law, window](const sim::RunSpec&, double size) {
+      return std::make_shared<VelocityScaledLaw>(law, window, 0.1 * size);
+    };
   } else {
     const std::string key = kCovariateKeys[std::min(2, static_cast<int>(rng.uniform(0.0, 3.0)))];
     std::string words;
     const auto link = draw_link(rng, words);
-    const Window window = draw_window(rng, {Window::kAll, Window::kCutInsert, Window::kPrecutInsert});
-    const auto [centre, half] = covariate_scale(key, runs);
+    const Window window =
+        draw_window(rng, {Window::kAll, Window::kCutInsert, Window::kPrecutInsert});
+    // Named copies: a lambda may not capture a structured binding under clang (C++20 allows it).
+    const auto scale = covariate_scale(key, runs);
+    const double centre = scale.first, half = scale.second;
     r.family = "covariate:" + key;
     r.form = words + " of " + key + ", " + window_name(window);
     r.law = [=](const sim::RunSpec& spec, double size) {
@@ -160,15 +178,20 @@ void out_of_catalogue(Recipe& r, sim::RandomSource& rng) {
   if (rng.uniform(0.0, 1.0) < 0.25) {
     const double period = rng.uniform(0.4, 1.5), decay = rng.uniform(0.5, 2.0);
     r.form = "damped ringing in every hold";
-    r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<HoldRingingLaw>(0.003 * size, period, decay); };
+    r.law = [=](const sim::RunSpec&, double size) {
+      return std::make_shared<HoldRingingLaw>(0.003 * size, period, decay);
+    };
     return;
   }
-  const Window window = draw_window(rng, {Window::kPrecutInsert, Window::kCutInsert, Window::kRetraction});
+  const Window window =
+      draw_window(rng, {Window::kPrecutInsert, Window::kCutInsert, Window::kRetraction});
   const BumpSum bumps = window == Window::kCutInsert      ? BumpSum::draw(rng, 0.3, 6.0)
                         : window == Window::kPrecutInsert ? BumpSum::draw(rng, 0.3, 3.3)
                                                           : BumpSum::draw(rng, 1.0, 11.0);
   r.form = "random bumps in depth, " + window_name(window);
-  r.law = [=](const sim::RunSpec&, double size) { return std::make_shared<DepthBumpsLaw>(bumps, window, 0.003 * size); };
+  r.law = [=](const sim::RunSpec&, double size) {
+    return std::make_shared<DepthBumpsLaw>(bumps, window, 0.003 * size);
+  };
 }
 
 void mixture(Recipe& r, sim::RandomSource& rng) {
@@ -179,9 +202,11 @@ void mixture(Recipe& r, sim::RandomSource& rng) {
   r.effects = {draw_sim_effect(rng, first), draw_sim_effect(rng, second)};
   r.expected = {verdict_of(r.effects[0]), verdict_of(r.effects[1])};
   r.family = r.expected[0] + "+" + r.expected[1];
-  r.form = sim::effect_name(r.effects[0].kind) + ":" + r.effects[0].form + " + " + sim::effect_name(r.effects[1].kind) + ":" +
-           r.effects[1].form;
-  r.target = std::max(r.target, 3.0);  // both must be findable: each is scaled to this on its own (ZooGenerator::draw)
+  r.form = sim::effect_name(r.effects[0].kind) + ":" + r.effects[0].form + " + " +
+           sim::effect_name(r.effects[1].kind) + ":" + r.effects[1].form;
+  r.target = std::max(
+      r.target,
+      3.0);  // both must be findable: each is scaled to this on its own (ZooGenerator::draw)
 }
 
 // Effect k of a recipe at the draw's size (times its own scale, in a mixture).
@@ -196,15 +221,17 @@ sim::HiddenEffect sized_effect(const Recipe& r, std::size_t k, double size) {
 Recipe ZooGenerator::recipe(std::uint64_t seed) const {
   sim::RandomSource rng(seed * 104729 + 3);
   Recipe r;
-  r.target = o_.min_magnitude * std::pow(o_.max_magnitude / o_.min_magnitude, rng.uniform(0.0, 1.0));
-  const double total = o_.clean_share + o_.catalogue_share + o_.zoo_law_share + o_.out_of_catalogue_share + o_.mixture_share;
+  r.target =
+      o_.min_magnitude * std::pow(o_.max_magnitude / o_.min_magnitude, rng.uniform(0.0, 1.0));
+  const double total = o_.clean_share + o_.catalogue_share + o_.zoo_law_share +
+                       o_.out_of_catalogue_share + o_.mixture_share;
   double pick = rng.uniform(0.0, total);
   if ((pick -= o_.clean_share) < 0.0) return r;
   if ((pick -= o_.catalogue_share) < 0.0) {
     catalogue_form(r, rng);
   } else if ((pick -= o_.zoo_law_share) < 0.0) {
     zoo_law(r, rng, o_.runs);
-  } else if ((pick -= o_.out_of_catalogue_share) < 0.0) {
+  } else if (pick < o_.out_of_catalogue_share) {
     out_of_catalogue(r, rng);
   } else {
     mixture(r, rng);
@@ -212,8 +239,10 @@ Recipe ZooGenerator::recipe(std::uint64_t seed) const {
   return r;
 }
 
-std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,
-                                                   std::size_t count, double eye_variability) const {
+std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r,
+                                                   const std::vector<sim::RunSpec>& specs,
+                                                   double size, std::size_t count,
+                                                   double eye_variability) const {
   sim::GeneratorOptions g;
   g.physics.tissue.eye_variability = eye_variability;
   for (std::size_t k = 0; k < r.effects.size(); ++k) g.effects.push_back(sized_effect(r, k, size));
@@ -230,16 +259,19 @@ std::vector<model::RunData> ZooGenerator::simulate(const Recipe& r, const std::v
   return runs;
 }
 
-double ZooGenerator::pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size, std::size_t runs) const {
+double ZooGenerator::pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs,
+                                     double size, std::size_t runs) const {
   Recipe clean;
-  return effect_rms_ratio(simulate(r, specs, size, runs), simulate(clean, specs, size, runs), kNoise_N);
+  return effect_rms_ratio(simulate(r, specs, size, runs), simulate(clean, specs, size, runs),
+                          kNoise_N);
 }
 
 double ZooGenerator::true_floor_N(const std::vector<sim::RunSpec>& specs) const {
   // The same eyes' noise and tearing with identical eyes: what differs is the eye variation.
   Recipe clean;
-  const double eye_N = kNoise_N * effect_rms_ratio(simulate(clean, specs, 1.0, kPilotRuns),
-                                                   simulate(clean, specs, 1.0, kPilotRuns, 0.0), kNoise_N);
+  const double eye_N =
+      kNoise_N * effect_rms_ratio(simulate(clean, specs, 1.0, kPilotRuns),
+                                  simulate(clean, specs, 1.0, kPilotRuns, 0.0), kNoise_N);
   return std::sqrt(kNoise_N * kNoise_N + eye_N * eye_N);
 }
 
@@ -248,7 +280,9 @@ double ZooGenerator::true_floor_N(const std::vector<sim::RunSpec>& specs) const 
 // beside friction, under half the floor on its own), and no lab could name what the data do
 // not show. Returns the
 // magnitude each has alone [x the true floor].
-std::vector<double> ZooGenerator::calibrate_components(Recipe& r, const std::vector<sim::RunSpec>& specs, double floor_in_noise) const {
+std::vector<double> ZooGenerator::calibrate_components(Recipe& r,
+                                                       const std::vector<sim::RunSpec>& specs,
+                                                       double floor_in_noise) const {
   std::vector<double> alone;
   r.effect_scale.clear();
   for (const sim::HiddenEffect& e : r.effects) {
@@ -304,7 +338,8 @@ ZooDraw ZooGenerator::draw(std::uint64_t seed) const {
   return d;
 }
 
-double effect_rms_ratio(const std::vector<model::RunData>& with, const std::vector<model::RunData>& without, double noise_N) {
+double effect_rms_ratio(const std::vector<model::RunData>& with,
+                        const std::vector<model::RunData>& without, double noise_N) {
   double sum = 0.0;
   double n = 0.0;
   for (std::size_t r = 0; r < with.size() && r < without.size(); ++r) {

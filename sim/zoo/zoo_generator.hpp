@@ -17,12 +17,12 @@ namespace rig::zoo {
 struct Recipe;  // what a draw hides (zoo_generator.cpp)
 
 struct ZooOptions {
-  int runs = 9;                   // runs per draw (3 IOP x 3 velocity levels, jittered)
-  double min_magnitude = 0.5;     // x the true floor (noise + eye variation), drawn log-uniformly
+  int runs = 9;                // runs per draw (3 IOP x 3 velocity levels, jittered)
+  double min_magnitude = 0.5;  // x the true floor (noise + eye variation), drawn log-uniformly
   double max_magnitude = 10.0;
   // Share of each kind (need not sum to 1).
-  double clean_share = 0.2, catalogue_share = 0.4, zoo_law_share = 0.15, out_of_catalogue_share = 0.15,
-         mixture_share = 0.1;
+  double clean_share = 0.2, catalogue_share = 0.4, zoo_law_share = 0.15,
+         out_of_catalogue_share = 0.15, mixture_share = 0.1;
 };
 
 class ZooGenerator {
@@ -34,17 +34,22 @@ class ZooGenerator {
 
  private:
   Recipe recipe(std::uint64_t seed) const;
-  static constexpr std::size_t kPilotRuns = 3;  // runs simulated to measure a magnitude or the floor
-  double pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size, std::size_t runs = kPilotRuns) const;
-  std::vector<double> calibrate_components(Recipe& r, const std::vector<sim::RunSpec>& specs, double floor_in_noise) const;
+  static constexpr std::size_t kPilotRuns =
+      3;  // runs simulated to measure a magnitude or the floor
+  double pilot_magnitude(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,
+                         std::size_t runs = kPilotRuns) const;
+  std::vector<double> calibrate_components(Recipe& r, const std::vector<sim::RunSpec>& specs,
+                                           double floor_in_noise) const;
   // The simulator's own floor for these runs [N]: RMS of white noise and eye-to-eye variation.
   double true_floor_N(const std::vector<sim::RunSpec>& specs) const;
-  std::vector<model::RunData> simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs, double size,
-                                       std::size_t count, double eye_variability = 1.0) const;
+  std::vector<model::RunData> simulate(const Recipe& r, const std::vector<sim::RunSpec>& specs,
+                                       double size, std::size_t count,
+                                       double eye_variability = 1.0) const;
   ZooOptions o_;
 };
 
 // Effect RMS over in-tissue samples of `with` against `without`, in units of `noise_N`.
-double effect_rms_ratio(const std::vector<model::RunData>& with, const std::vector<model::RunData>& without, double noise_N);
+double effect_rms_ratio(const std::vector<model::RunData>& with,
+                        const std::vector<model::RunData>& without, double noise_N);
 
 }  // namespace rig::zoo

@@ -8,25 +8,36 @@ namespace rig::zoo {
 
 bool in_window(Window window, const sim::ForceContext& c) {
   if (c.tip_mm <= 0.0) return false;
-  const bool inserting = c.velocity_mm_s > 0.05 || (c.hold_s > 0.0 && c.tip_mm >= c.front_mm - 0.05);
+  const bool inserting =
+      c.velocity_mm_s > 0.05 || (c.hold_s > 0.0 && c.tip_mm >= c.front_mm - 0.05);
   const bool retracting = c.velocity_mm_s < -0.05 && c.tip_mm < c.front_mm - 0.01;
   switch (window) {
-    case Window::kPrecutInsert: return !c.punctured && inserting;
-    case Window::kCutInsert: return c.punctured && inserting;
-    case Window::kRetraction: return retracting;
-    case Window::kAllInsert: return inserting;
-    case Window::kAll: return true;
+    case Window::kPrecutInsert:
+      return !c.punctured && inserting;
+    case Window::kCutInsert:
+      return c.punctured && inserting;
+    case Window::kRetraction:
+      return retracting;
+    case Window::kAllInsert:
+      return inserting;
+    case Window::kAll:
+      return true;
   }
   return false;
 }
 
 std::string window_name(Window window) {
   switch (window) {
-    case Window::kPrecutInsert: return "before the puncture, inserting";
-    case Window::kCutInsert: return "after the puncture, inserting";
-    case Window::kRetraction: return "retracting";
-    case Window::kAllInsert: return "inserting";
-    case Window::kAll: return "everywhere";
+    case Window::kPrecutInsert:
+      return "before the puncture, inserting";
+    case Window::kCutInsert:
+      return "after the puncture, inserting";
+    case Window::kRetraction:
+      return "retracting";
+    case Window::kAllInsert:
+      return "inserting";
+    case Window::kAll:
+      return "everywhere";
   }
   return "?";
 }
@@ -81,7 +92,8 @@ double VelocityScaledLaw::force_N(const sim::ForceContext& c) const {
   // A viscous-like law: it vanishes at rest (law(2 mm/s) = 0 stands in for 'no change').
   // A law can weaken the tissue to a tenth, never turn its force over: a tissue that pulls
   // the blade in is no rate law (large draws did, down to -0.2 N on the start-up after a stop).
-  const double change = amplitude_ * law_(std::abs(c.velocity_mm_s) > 0.05 ? std::abs(c.velocity_mm_s) : 2.0);
+  const double change =
+      amplitude_ * law_(std::abs(c.velocity_mm_s) > 0.05 ? std::abs(c.velocity_mm_s) : 2.0);
   return std::max(kMostWeakening, change) * c.tissue_force_N;
 }
 
@@ -91,7 +103,8 @@ double RunFactorLaw::force_N(const sim::ForceContext& c) const {
 
 double HoldRingingLaw::force_N(const sim::ForceContext& c) const {
   if (c.hold_s <= 0.0 || c.tip_mm <= 0.0) return 0.0;
-  return amplitude_N_ * std::exp(-c.hold_s / decay_s_) * std::sin(2.0 * std::numbers::pi * c.hold_s / period_s_);
+  return amplitude_N_ * std::exp(-c.hold_s / decay_s_) *
+         std::sin(2.0 * std::numbers::pi * c.hold_s / period_s_);
 }
 
 }  // namespace rig::zoo

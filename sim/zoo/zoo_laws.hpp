@@ -25,7 +25,8 @@ struct BumpSum {
 // A random monotone law in velocity, normalised to 0 at 2 mm/s: a positive combination of
 // saturating, logarithmic and power pieces with random knees.
 struct VelocityLaw {
-  double knee_mm_s = 1.0, weight_saturating = 0.0, weight_log = 0.0, weight_power = 0.0, exponent = 0.5;
+  double knee_mm_s = 1.0, weight_saturating = 0.0, weight_log = 0.0, weight_power = 0.0,
+         exponent = 0.5;
   static VelocityLaw draw(sim::RandomSource& rng);
   double operator()(double v_mm_s) const;
 };
@@ -34,7 +35,8 @@ struct VelocityLaw {
 // the window is after it).
 class DepthBumpsLaw : public sim::ExtraForce {
  public:
-  DepthBumpsLaw(BumpSum bumps, Window window, double amplitude_N) : bumps_(std::move(bumps)), window_(window), amplitude_N_(amplitude_N) {}
+  DepthBumpsLaw(BumpSum bumps, Window window, double amplitude_N)
+      : bumps_(std::move(bumps)), window_(window), amplitude_N_(amplitude_N) {}
   double force_N(const sim::ForceContext& c) const override;
 
  private:
@@ -49,7 +51,8 @@ inline constexpr double kMostWeakening = -0.9;
 // Tissue force scaled by (1 + amplitude * law(v)) inside the window, at least by 0.1.
 class VelocityScaledLaw : public sim::ExtraForce {
  public:
-  VelocityScaledLaw(VelocityLaw law, Window window, double amplitude) : law_(law), window_(window), amplitude_(amplitude) {}
+  VelocityScaledLaw(VelocityLaw law, Window window, double amplitude)
+      : law_(law), window_(window), amplitude_(amplitude) {}
   double force_N(const sim::ForceContext& c) const override;
 
  private:
@@ -61,7 +64,8 @@ class VelocityScaledLaw : public sim::ExtraForce {
 // Tissue force scaled by a fixed per-run factor (the covariate link evaluated for the run).
 class RunFactorLaw : public sim::ExtraForce {
  public:
-  RunFactorLaw(double factor_minus_one, Window window) : excess_(factor_minus_one), window_(window) {}
+  RunFactorLaw(double factor_minus_one, Window window)
+      : excess_(factor_minus_one), window_(window) {}
   double force_N(const sim::ForceContext& c) const override;
 
  private:
@@ -72,7 +76,8 @@ class RunFactorLaw : public sim::ExtraForce {
 // A damped oscillation in every hold: amplitude * exp(-t/decay) sin(2 pi t / period).
 class HoldRingingLaw : public sim::ExtraForce {
  public:
-  HoldRingingLaw(double amplitude_N, double period_s, double decay_s) : amplitude_N_(amplitude_N), period_s_(period_s), decay_s_(decay_s) {}
+  HoldRingingLaw(double amplitude_N, double period_s, double decay_s)
+      : amplitude_N_(amplitude_N), period_s_(period_s), decay_s_(decay_s) {}
   double force_N(const sim::ForceContext& c) const override;
 
  private:

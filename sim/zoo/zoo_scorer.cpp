@@ -8,8 +8,9 @@
 namespace rig::zoo {
 namespace {
 
-constexpr double kHeadlineMagnitude = 3.0;  // x noise floor: the targets count draws at or above this
-constexpr double kCloseShare = 0.25;       // after <= floor + 25 % of the excess
+constexpr double kHeadlineMagnitude =
+    3.0;                              // x noise floor: the targets count draws at or above this
+constexpr double kCloseShare = 0.25;  // after <= floor + 25 % of the excess
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -22,7 +23,9 @@ double candidate_rmse(const model::Diagnosis& d, const std::string& name) {
   return d.baseline_cv_rmse_N;
 }
 
-bool within(double before, double after, double floor) { return after <= floor + kCloseShare * std::max(0.0, before - floor); }
+bool within(double before, double after, double floor) {
+  return after <= floor + kCloseShare * std::max(0.0, before - floor);
+}
 
 // After <= floor + 25 % of the excess, on the channel the verdict was found on (the lab's
 // two channels, docs/model-lab.md): an effect that scales whole runs is judged against the
@@ -32,7 +35,8 @@ bool close_after(const model::Diagnosis& d, const std::string& name) {
   for (const auto& c : d.candidates) {
     if (c.effect != name || !c.applicable) continue;
     const bool population = within(d.baseline_cv_rmse_N, c.cv_rmse_N, d.noise_floor_N);
-    const bool own = within(d.baseline_own_eye_cv_rmse_N, c.own_eye_cv_rmse_N, d.floor.measurement_N);
+    const bool own =
+        within(d.baseline_own_eye_cv_rmse_N, c.own_eye_cv_rmse_N, d.floor.measurement_N);
     if (c.channel == "population") return population;
     if (c.channel == "own eye") return own;
     return population || own;
@@ -111,17 +115,23 @@ void summarise(ZooScore& z) {
     const bool strong = s.magnitude >= kHeadlineMagnitude;
     auto count = [&s](Rate& rate, bool hit) { rate.total += 1, rate.hits += hit ? 1 : 0; };
     switch (s.kind) {
-      case DrawKind::kClean: count(z.false_alarms, s.verdict != "none"); break;
+      case DrawKind::kClean:
+        count(z.false_alarms, s.verdict != "none");
+        break;
       case DrawKind::kCatalogueForm:
       case DrawKind::kZooLaw:
         count(strong ? z.catalogue_correct : z.catalogue_correct_below_3x, s.correct);
         if (s.magnitude_noise >= kHeadlineMagnitude) count(z.catalogue_correct_3x_noise, s.correct);
-        if (strong) count(z.correct_by_family[s.family.rfind("covariate:", 0) == 0 ? "covariate" : s.family], s.correct);
+        if (strong)
+          count(z.correct_by_family[s.family.rfind("covariate:", 0) == 0 ? "covariate" : s.family],
+                s.correct);
         break;
       case DrawKind::kOutOfCatalogue:
         if (strong) count(z.unexplained, s.verdict == "unexplained");
         break;
-      case DrawKind::kMixture: count(z.mixtures_found, s.correct); break;
+      case DrawKind::kMixture:
+        count(z.mixtures_found, s.correct);
+        break;
     }
     if (s.correct && s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue) {
       count(z.fit_close, s.fit_close);
@@ -136,17 +146,29 @@ namespace {
 
 // Two lines per draw on stderr (--verbose).
 void print_draw(const DrawScore& s, const ZooDraw& draw) {
-  const bool named = s.kind != DrawKind::kClean && s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
-  std::fprintf(stderr, "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
-               static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
-               s.expected.front().c_str(), s.verdict.c_str(), s.second_verdict.empty() ? "" : ("then --with " + s.first_named + ": " + s.second_verdict + " ").c_str(),
-               s.correct ? "ok" : "MISS", s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
-               s.generate_s, s.diagnose_s);
-  std::fprintf(stderr, "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
-               s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12), 1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12),
-               1e3 * s.measurement_N, s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
+  const bool named = s.kind != DrawKind::kClean &&
+                     s.kind != DrawKind::kOutOfCatalogue;  // an effect was to be named
+  std::fprintf(
+      stderr,
+      "draw %llu %-34s %-48s %5.1fx expected %-26s verdict %-26s %s%s%s (%.1f s + %.1f s)\n",
+      static_cast<unsigned long long>(s.seed), s.family.c_str(), s.form.c_str(), s.magnitude,
+      s.expected.front().c_str(), s.verdict.c_str(),
+      s.second_verdict.empty()
+          ? ""
+          : ("then --with " + s.first_named + ": " + s.second_verdict + " ").c_str(),
+      s.correct ? "ok" : "MISS",
+      s.correct && named && !s.fit_close ? " (error after it not close to the floor)" : "",
+      s.generate_s, s.diagnose_s);
+  std::fprintf(
+      stderr,
+      "     %.1fx the noise, true floor %.1f mN; baseline %.2fx floor (%.1f mN), within eyes %.2fx "
+      "noise (%.1f mN); ranked first %s; largest gains %.1f %% / %.1f %% within eyes\n",
+      s.magnitude_noise, 1e3 * s.true_floor_N, s.baseline_N / std::max(s.floor_N, 1e-12),
+      1e3 * s.floor_N, s.own_eye_N / std::max(s.measurement_N, 1e-12), 1e3 * s.measurement_N,
+      s.best.c_str(), s.best_gain_pct, s.best_own_eye_gain_pct);
   if (draw.component_magnitudes.size() == 2) {
-    std::fprintf(stderr, "     each effect alone: %.1fx and %.1fx the true floor\n", draw.component_magnitudes[0], draw.component_magnitudes[1]);
+    std::fprintf(stderr, "     each effect alone: %.1fx and %.1fx the true floor\n",
+                 draw.component_magnitudes[0], draw.component_magnitudes[1]);
   }
 }
 
@@ -166,9 +188,12 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
       z.draws.push_back(std::move(s));
     } catch (const sim::RunFaulted& e) {  // the simulated rig could not run it: counted apart
       z.not_run.push_back({seed, e.what()});
-      if (o.verbose) std::fprintf(stderr, "draw %llu not run: %s\n", static_cast<unsigned long long>(seed), e.what());
+      if (o.verbose)
+        std::fprintf(stderr, "draw %llu not run: %s\n", static_cast<unsigned long long>(seed),
+                     e.what());
     }
-    if (o.verbose && (k + 1) % 10 == 0 && k + 1 < o.draws) {  // a long run cut short still has its figures
+    if (o.verbose && (k + 1) % 10 == 0 &&
+        k + 1 < o.draws) {  // a long run cut short still has its figures
       ZooScore so_far;
       so_far.draws = z.draws;
       so_far.not_run = z.not_run;
@@ -183,17 +208,23 @@ ZooScore score_zoo(const ZooGenerator& generator, const ScoreOptions& o) {
 
 void print_score(const ZooScore& z, std::FILE* out) {
   auto line = [out](const char* what, const Rate& r, const char* target) {
-    std::fprintf(out, "  %-62s %5.1f %%  (%d of %d)   target %s\n", what, r.percent(), r.hits, r.total, target);
+    std::fprintf(out, "  %-62s %5.1f %%  (%d of %d)   target %s\n", what, r.percent(), r.hits,
+                 r.total, target);
   };
-  std::fprintf(out, "blind effect zoo: magnitudes in x the true floor (white noise + eye variation)\n");
-  std::fprintf(out, "blind effect zoo: %zu draws, median %.1f s to simulate and %.1f s to diagnose a draw\n", z.draws.size(),
-               z.median_generate_s, z.median_diagnose_s);
-  line("correct verdict, catalogue families in other forms, >= 3x floor", z.catalogue_correct, ">= 90 %");
+  std::fprintf(out,
+               "blind effect zoo: magnitudes in x the true floor (white noise + eye variation)\n");
+  std::fprintf(
+      out, "blind effect zoo: %zu draws, median %.1f s to simulate and %.1f s to diagnose a draw\n",
+      z.draws.size(), z.median_generate_s, z.median_diagnose_s);
+  line("correct verdict, catalogue families in other forms, >= 3x floor", z.catalogue_correct,
+       ">= 90 %");
   for (const auto& [family, rate] : z.correct_by_family) {
-    std::fprintf(out, "    %-60s %5.1f %%  (%d of %d)\n", family.c_str(), rate.percent(), rate.hits, rate.total);
+    std::fprintf(out, "    %-60s %5.1f %%  (%d of %d)\n", family.c_str(), rate.percent(), rate.hits,
+                 rate.total);
   }
   line("correct verdict, the same under 3x floor", z.catalogue_correct_below_3x, "(none)");
-  line("correct verdict, the same at >= 3x the white noise alone", z.catalogue_correct_3x_noise, "(none)");
+  line("correct verdict, the same at >= 3x the white noise alone", z.catalogue_correct_3x_noise,
+       "(none)");
   line("false alarms on effect-free sets", z.false_alarms, "<= 5 %");
   line("`unexplained` on out-of-catalogue effects, >= 3x floor", z.unexplained, ">= 80 %");
   line("mixtures: both named in two rounds (diagnose --with)", z.mixtures_found, "(none)");
@@ -203,8 +234,12 @@ void print_score(const ZooScore& z, std::FILE* out) {
   // the figure that is.
   line("  the same, among those at >= 3x floor", z.fit_close_3x, "(none)");
   if (!z.not_run.empty()) {
-    std::fprintf(out, "  %zu draw(s) not run, outside every rate (the simulated rig's interlocks stopped a run):\n", z.not_run.size());
-    for (const DrawNotRun& d : z.not_run) std::fprintf(out, "    %llu: %s\n", static_cast<unsigned long long>(d.seed), d.why.c_str());
+    std::fprintf(out,
+                 "  %zu draw(s) not run, outside every rate (the simulated rig's interlocks "
+                 "stopped a run):\n",
+                 z.not_run.size());
+    for (const DrawNotRun& d : z.not_run)
+      std::fprintf(out, "    %llu: %s\n", static_cast<unsigned long long>(d.seed), d.why.c_str());
   }
 }
 

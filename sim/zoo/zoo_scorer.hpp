@@ -19,15 +19,15 @@ struct DrawScore {
   DrawKind kind = DrawKind::kClean;
   std::string family, form;
   std::vector<std::string> expected;
-  double magnitude = 0.0;         // x the simulator's true floor (noise + eye variation)
-  double magnitude_noise = 0.0;   // x the white noise alone (the stricter scale)
-  double true_floor_N = 0.0;      // the simulator's floor [N]
-  std::string verdict;            // first round
-  std::string first_named;        // mixtures: the first round's verdict, or its partial candidate
-  std::string second_verdict;     // mixtures: with first_named in the base
-  bool correct = false;           // the verdict (both, for mixtures) is what was expected
+  double magnitude = 0.0;        // x the simulator's true floor (noise + eye variation)
+  double magnitude_noise = 0.0;  // x the white noise alone (the stricter scale)
+  double true_floor_N = 0.0;     // the simulator's floor [N]
+  std::string verdict;           // first round
+  std::string first_named;       // mixtures: the first round's verdict, or its partial candidate
+  std::string second_verdict;    // mixtures: with first_named in the base
+  bool correct = false;          // the verdict (both, for mixtures) is what was expected
   double baseline_N = 0.0, floor_N = 0.0, after_N = 0.0;  // CV RMSE before/after the verdict, floor
-  bool fit_close = false;         // after <= floor + 25 % of (baseline - floor)
+  bool fit_close = false;  // after <= floor + 25 % of (baseline - floor)
   // For --verbose and calibration: the within-eye baseline against the measurement noise,
   // the candidate ranked first, and the largest gain any candidate reached on each channel.
   double own_eye_N = 0.0, measurement_N = 0.0;
@@ -52,15 +52,15 @@ struct DrawNotRun {
 struct ZooScore {
   std::vector<DrawScore> draws;
   std::vector<DrawNotRun> not_run;
-  Rate catalogue_correct;                      // catalogue families (both kinds) at >= 3x the floor
+  Rate catalogue_correct;  // catalogue families (both kinds) at >= 3x the floor
   std::map<std::string, Rate> correct_by_family;
-  Rate catalogue_correct_below_3x;             // the same under 3x (reported, no target)
-  Rate catalogue_correct_3x_noise;             // at >= 3x the white noise alone (the stricter scale)
-  Rate false_alarms;                           // clean sets with a verdict other than none
-  Rate unexplained;                            // out-of-catalogue sets answered `unexplained` (>= 3x)
-  Rate mixtures_found;                         // both effects named in two rounds
-  Rate fit_close;                              // among correct verdicts
-  Rate fit_close_3x;                           // the same, among those at >= 3x the floor (reported, no target)
+  Rate catalogue_correct_below_3x;  // the same under 3x (reported, no target)
+  Rate catalogue_correct_3x_noise;  // at >= 3x the white noise alone (the stricter scale)
+  Rate false_alarms;                // clean sets with a verdict other than none
+  Rate unexplained;                 // out-of-catalogue sets answered `unexplained` (>= 3x)
+  Rate mixtures_found;              // both effects named in two rounds
+  Rate fit_close;                   // among correct verdicts
+  Rate fit_close_3x;  // the same, among those at >= 3x the floor (reported, no target)
   double median_generate_s = 0.0, median_diagnose_s = 0.0;
 };
 

@@ -20,7 +20,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::uint64_t now_ns() { return static_cast<std::uint64_t>(rig::drivers::MonotonicClock().now_ns()); }
+std::uint64_t now_ns() {
+  return static_cast<std::uint64_t>(rig::drivers::MonotonicClock().now_ns());
+}
 
 struct RateResult {
   double rate_hz = 0.0;
@@ -50,7 +52,8 @@ RateResult run_rate(double rate_hz, double seconds) {
     for (int k = 0; k < r.triggers; ++k) {
       mapper.on_trigger(k, now_ns());
       camera.trigger_software();
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(period * (k + 1)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::duration_cast<Clock::duration>(period * (k + 1)));
     }
   });
   const auto end = Clock::now() + std::chrono::duration<double>(seconds + 1.0);
@@ -70,7 +73,8 @@ RateResult run_rate(double rate_hz, double seconds) {
   std::sort(latency_ms.begin(), latency_ms.end());
   if (!latency_ms.empty()) {
     r.p50_ms = latency_ms[latency_ms.size() / 2];
-    r.p99_ms = latency_ms[static_cast<std::size_t>(0.99 * static_cast<double>(latency_ms.size() - 1))];
+    r.p99_ms =
+        latency_ms[static_cast<std::size_t>(0.99 * static_cast<double>(latency_ms.size() - 1))];
   }
   return r;
 }
@@ -86,16 +90,23 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   ArvGvFakeCamera* simulator = arv_gv_fake_camera_new("127.0.0.1", "GV09");
   if (simulator == nullptr || !arv_gv_fake_camera_is_running(simulator)) {
-    std::fprintf(stderr, "bench-camera: cannot start the simulator on 127.0.0.1:3956 (another one running?)\n");
+    std::fprintf(
+        stderr,
+        "bench-camera: cannot start the simulator on 127.0.0.1:3956 (another one running?)\n");
     return 1;
   }
   arv_fake_camera_set_trigger_frequency(arv_gv_fake_camera_get_fake_camera(simulator), 1000.0);
-  std::printf("software trigger -> frame, 320x240 Mono8, in-process GigE Vision simulator, %.1f s per rate\n", seconds);
-  std::printf("%10s %9s %7s %7s %11s %13s %13s\n", "rate [Hz]", "triggers", "frames", "lost", "lost [%]", "latency p50", "latency p99");
+  std::printf(
+      "software trigger -> frame, 320x240 Mono8, in-process GigE Vision simulator, %.1f s per "
+      "rate\n",
+      seconds);
+  std::printf("%10s %9s %7s %7s %11s %13s %13s\n", "rate [Hz]", "triggers", "frames", "lost",
+              "lost [%]", "latency p50", "latency p99");
   for (const double rate : rates) {
     const RateResult r = run_rate(rate, seconds);
-    std::printf("%10.0f %9d %7d %7llu %10.1f%% %10.2f ms %10.2f ms\n", r.rate_hz, r.triggers, r.frames,
-                static_cast<unsigned long long>(r.lost), 100.0 * static_cast<double>(r.lost) / r.triggers, r.p50_ms, r.p99_ms);
+    std::printf("%10.0f %9d %7d %7llu %10.1f%% %10.2f ms %10.2f ms\n", r.rate_hz, r.triggers,
+                r.frames, static_cast<unsigned long long>(r.lost),
+                100.0 * static_cast<double>(r.lost) / r.triggers, r.p50_ms, r.p99_ms);
   }
   g_object_unref(simulator);
   return 0;

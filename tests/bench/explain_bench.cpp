@@ -34,10 +34,12 @@ void sweep() {
       for (const char* effect : {"none", "retraction_square", "blade_wear"}) {
         std::vector<rig::model::RunData> runs = clean;
         inject(runs, effect, 1e-4);
-        const Explanation e = rig::model::explainer::explain(rig::model::ForceModel::paper_interpreted(), runs);
-        std::printf("seed %d %-8s %-17s proposed %d  CV RMSE %.5f -> %.5f N (floor %.5f)  [%s]\n", static_cast<int>(seed),
-                    holds ? "holds" : "no hold", effect, e.proposed ? 1 : 0, e.baseline_cv_rmse_N,
-                    e.validated ? e.after_cv_rmse_N : e.baseline_cv_rmse_N, e.noise_floor_N, e.where.c_str());
+        const Explanation e =
+            rig::model::explainer::explain(rig::model::ForceModel::paper_interpreted(), runs);
+        std::printf("seed %d %-8s %-17s proposed %d  CV RMSE %.5f -> %.5f N (floor %.5f)  [%s]\n",
+                    static_cast<int>(seed), holds ? "holds" : "no hold", effect, e.proposed ? 1 : 0,
+                    e.baseline_cv_rmse_N, e.validated ? e.after_cv_rmse_N : e.baseline_cv_rmse_N,
+                    e.noise_floor_N, e.where.c_str());
       }
     }
   }
@@ -57,7 +59,8 @@ int main(int argc, char** argv) {
   std::string effect = "retraction_square";
   app.add_option("--runs", runs, "number of runs")->check(CLI::Range(1, 1000));
   app.add_option("--repeats", repeats, "timed repetitions (median)")->check(CLI::Range(1, 20));
-  app.add_option("--effect", effect, "injected effect")->check(CLI::IsMember({"retraction_square", "blade_wear", "none"}));
+  app.add_option("--effect", effect, "injected effect")
+      ->check(CLI::IsMember({"retraction_square", "blade_wear", "none"}));
   app.add_flag("--sweep", do_sweep, "proposals over seeds and effects instead of the timing");
   CLI11_PARSE(app, argc, argv);
   if (do_sweep) {
@@ -65,7 +68,8 @@ int main(int argc, char** argv) {
     return 0;
   }
   std::vector<rig::model::RunData> data;
-  const auto specs = rig::sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5}, {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2}, 12.0, 0.0, 5);
+  const auto specs = rig::sim::design_runs(
+      {15, 16.5, 18}, {1.5, 2.5, 3.5}, {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2}, 12.0, 0.0, 5);
   std::size_t samples = 0;
   for (int i = 0; i < runs; ++i) {
     rig::sim::RunSpec spec = specs[static_cast<std::size_t>(i) % specs.size()];
@@ -86,9 +90,11 @@ int main(int argc, char** argv) {
     rig::model::explainer::explain(rig::model::ForceModel::paper_interpreted(), data, quick);
     unvalidated.push_back(seconds_since(start));
   }
-  std::printf("runs %d, samples %zu, effect %s, %zu candidate features\n", runs, samples, effect.c_str(), e.library_size);
-  std::printf("explain, median of %d: %.2f s (without the validating fit: %.2f s)\n", repeats, median(whole), median(unvalidated));
-  std::printf("%s\nwhere %s; CV RMSE %.5f -> %.5f N, noise floor %.5f N\n", e.summary.c_str(), e.where.c_str(), e.baseline_cv_rmse_N,
-              e.after_cv_rmse_N, e.noise_floor_N);
+  std::printf("runs %d, samples %zu, effect %s, %zu candidate features\n", runs, samples,
+              effect.c_str(), e.library_size);
+  std::printf("explain, median of %d: %.2f s (without the validating fit: %.2f s)\n", repeats,
+              median(whole), median(unvalidated));
+  std::printf("%s\nwhere %s; CV RMSE %.5f -> %.5f N, noise floor %.5f N\n", e.summary.c_str(),
+              e.where.c_str(), e.baseline_cv_rmse_N, e.after_cv_rmse_N, e.noise_floor_N);
   return 0;
 }

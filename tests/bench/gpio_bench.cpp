@@ -29,7 +29,8 @@ using namespace rig;
 // Limit switches from the physics, e-stop and motor enable on the GPIO driver.
 class EstopOnGpio final : public drivers::DigitalIo {
  public:
-  EstopOnGpio(drivers::DigitalIo& switches, drivers::DigitalIo& gpio) : switches_(&switches), gpio_(&gpio) {}
+  EstopOnGpio(drivers::DigitalIo& switches, drivers::DigitalIo& gpio)
+      : switches_(&switches), gpio_(&gpio) {}
   drivers::IoStatus read(drivers::DigitalInputs& in) noexcept override {
     drivers::DigitalInputs from_gpio;
     const drivers::IoStatus a = switches_->read(in);
@@ -84,7 +85,8 @@ int main(int argc, char** argv) {
   rt::ControlLoop loop(settings, rt::LoopHardware{&daq, &digital, &daq, &clock}, channels);
   std::atomic<bool> stop{false};
   service::RtThreadReport report = service::lock_process_memory(priority > 0);
-  std::thread rt_thread = service::start_rt_thread({priority, -1, priority > 0}, [&] { loop.run(stop); }, report);
+  std::thread rt_thread = service::start_rt_thread(
+      {priority, -1, priority > 0}, [&] { loop.run(stop); }, report);
   for (const auto& w : report.warnings) std::printf("warning: %s\n", w.c_str());
 
   std::mt19937 rng(7);
@@ -94,13 +96,25 @@ int main(int argc, char** argv) {
   int skipped = 0;
   for (int t = 0; t < trials; ++t) {
     channels.commands.push(rt::Command{rt::CommandKind::kHome, id++, {}});
-    if (!wait_for([&] { return bank.output(drivers::kMotorEnableOutput); }, 2000)) { ++skipped; continue; }
-    std::this_thread::sleep_for(std::chrono::microseconds(delay_us(rng)));  // a random phase of the loop
-    if (!bank.output(drivers::kMotorEnableOutput)) { ++skipped; continue; }
+    if (!wait_for([&] { return bank.output(drivers::kMotorEnableOutput); }, 2000)) {
+      ++skipped;
+      continue;
+    }
+    std::this_thread::sleep_for(
+        std::chrono::microseconds(delay_us(rng)));  // a random phase of the loop
+    if (!bank.output(drivers::kMotorEnableOutput)) {
+      ++skipped;
+      continue;
+    }
     const std::int64_t pressed_ns = clock.now_ns();
     bank.set_input(drivers::kEstopInput, true, pressed_ns);
-    if (!wait_for([&] { return !bank.output(drivers::kMotorEnableOutput); }, 1000)) { ++skipped; continue; }
-    latencies_us.push_back(static_cast<double>(bank.output_changed_ns(drivers::kMotorEnableOutput) - pressed_ns) * 1e-3);
+    if (!wait_for([&] { return !bank.output(drivers::kMotorEnableOutput); }, 1000)) {
+      ++skipped;
+      continue;
+    }
+    latencies_us.push_back(
+        static_cast<double>(bank.output_changed_ns(drivers::kMotorEnableOutput) - pressed_ns) *
+        1e-3);
     wait_for([&] { return channels.status.read().state == rt::RunState::kEStop; }, 1000);
     bank.set_input(drivers::kEstopInput, false, clock.now_ns());
     std::this_thread::sleep_for(std::chrono::milliseconds(5));  // > 2 ms debounce
@@ -110,11 +124,15 @@ int main(int argc, char** argv) {
   stop.store(true);
   rt_thread.join();
   const double period_us = 1e6 / rate_hz;
-  const auto within = std::count_if(latencies_us.begin(), latencies_us.end(), [&](double v) { return v <= period_us; });
-  std::printf("bench-gpio: loop %.0f Hz (period %.0f us, %s), %zu e-stop presses (%d skipped)\n", rate_hz, period_us,
-              report.realtime ? "SCHED_FIFO" : "normal scheduling", latencies_us.size(), skipped);
-  std::printf("edge -> motor enable off [us]: p50 %.0f  p90 %.0f  p99 %.0f  max %.0f;  within one period: %ld/%zu\n",
-              percentile(latencies_us, 0.5), percentile(latencies_us, 0.9), percentile(latencies_us, 0.99),
-              percentile(latencies_us, 1.0), static_cast<long>(within), latencies_us.size());
+  const auto within = std::count_if(latencies_us.begin(), latencies_us.end(),
+                                    [&](double v) { return v <= period_us; });
+  std::printf("bench-gpio: loop %.0f Hz (period %.0f us, %s), %zu e-stop presses (%d skipped)\n",
+              rate_hz, period_us, report.realtime ? "SCHED_FIFO" : "normal scheduling",
+              latencies_us.size(), skipped);
+  std::printf(
+      "edge -> motor enable off [us]: p50 %.0f  p90 %.0f  p99 %.0f  max %.0f;  within one period: "
+      "%ld/%zu\n",
+      percentile(latencies_us, 0.5), percentile(latencies_us, 0.9), percentile(latencies_us, 0.99),
+      percentile(latencies_us, 1.0), static_cast<long>(within), latencies_us.size());
   return latencies_us.empty() ? 1 : 0;
 }

@@ -19,7 +19,8 @@ template <typename Message>
 void decode(const nlohmann::json& body) {
   try {
     const Message message = body.get<Message>();
-    (void)nlohmann::json(message).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);  // and back
+    (void)nlohmann::json(message).dump(-1, ' ', false,
+                                       nlohmann::json::error_handler_t::replace);  // and back
   } catch (const nlohmann::json::exception&) {
   } catch (const rig::proto::ProtoError&) {
   }

@@ -5,10 +5,10 @@
 // A finding is a memory error, UB, an exception out of the router, a 500 (a request the
 // router did not judge), a command or archive answer without the token, a state-changing
 // success that was not JSON, or a static file from outside the web root.
+#include <spdlog/spdlog.h>
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/beast/http.hpp>
-#include <spdlog/spdlog.h>
 
 #include <chrono>
 #include <cstddef>
@@ -50,7 +50,8 @@ struct Fixture {
   void answer_commands() {
     rig::rt::Command command;
     while (channels.commands.pop(command)) {
-      auto& slot = status.recent_answers[status.recent_answer_count++ % status.recent_answers.size()];
+      auto& slot =
+          status.recent_answers[status.recent_answer_count++ % status.recent_answers.size()];
       slot.id = command.id;
       slot.result = rig::rt::CommandResult::kAccepted;
     }
@@ -81,14 +82,18 @@ void check(const rig::api::Request& request, const rig::api::Response& response)
   if (status == 500) rig::fuzz::fail("500 for a request", response.body());
   if (status >= 300) return;
   const bool safety = rig::api::is_safety_request(request);
-  if (std::string(request.target()).rfind("/proto/messages.json", 0) == 0) return;  // public, like the page
+  if (std::string(request.target()).rfind("/proto/messages.json", 0) == 0)
+    return;  // public, like the page
   if (is_static(request)) {
-    if (response.body() != rig::fuzz::kPage) rig::fuzz::fail("a static file that is not the page", response.body());
+    if (response.body() != rig::fuzz::kPage)
+      rig::fuzz::fail("a static file that is not the page", response.body());
     return;
   }
-  if (!safety && !rig::fuzz::carries_token(request)) rig::fuzz::fail("answered without the token", std::string(request.target()));
+  if (!safety && !rig::fuzz::carries_token(request))
+    rig::fuzz::fail("answered without the token", std::string(request.target()));
   const bool reads = request.method() == http::verb::get || request.method() == http::verb::head;
-  if (!safety && !reads && !rig::fuzz::is_json_content_type(request)) rig::fuzz::fail("a command that was not JSON", std::string(request.target()));
+  if (!safety && !reads && !rig::fuzz::is_json_content_type(request))
+    rig::fuzz::fail("a command that was not JSON", std::string(request.target()));
 }
 
 }  // namespace

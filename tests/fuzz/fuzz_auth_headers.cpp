@@ -1,8 +1,9 @@
 // libFuzzer target: the API's access checks on the headers a client controls - the token
 // (Authorization: Bearer, ?token= for WebSocket upgrades), Host (DNS rebinding), Origin and
-// Content-Type (cross-site requests). The input is "METHOD\nTARGET\nHost\nOrigin\nAuthorization\nContent-Type",
-// a field left out is a header not sent. A finding is a memory error, UB, an exception, or a
-// request let through that an independent reading of the rules refuses.
+// Content-Type (cross-site requests). The input is
+// "METHOD\nTARGET\nHost\nOrigin\nAuthorization\nContent-Type", a field left out is a header not
+// sent. A finding is a memory error, UB, an exception, or a request let through that an independent
+// reading of the rules refuses.
 #include <arpa/inet.h>
 
 #include <cstddef>
@@ -22,19 +23,22 @@ using rig::fuzz::lower;
 
 std::string trimmed(const std::string& s) {
   const auto first = s.find_first_not_of(" \t");
-  return first == std::string::npos ? std::string() : s.substr(first, s.find_last_not_of(" \t") - first + 1);
+  return first == std::string::npos ? std::string()
+                                    : s.substr(first, s.find_last_not_of(" \t") - first + 1);
 }
 
 // The host part of a Host header: "[v6]" with brackets, or up to the first ':'.
 bool host_is_ours(const std::string& header) {
   const std::string h = lower(trimmed(header));
   std::string host = h.substr(0, h.find(':'));
-  if (!h.empty() && h.front() == '[') host = h.substr(0, h.find(']') == std::string::npos ? h.size() : h.find(']') + 1);
+  if (!h.empty() && h.front() == '[')
+    host = h.substr(0, h.find(']') == std::string::npos ? h.size() : h.find(']') + 1);
   for (const char* name : {"localhost", "rigbench", "rigbench.local", "rig07"}) {
     if (host == name) return true;
   }
   unsigned char address[16];
-  if (host.size() > 2 && host.front() == '[' && host.back() == ']') return inet_pton(AF_INET6, host.substr(1, host.size() - 2).c_str(), address) == 1;
+  if (host.size() > 2 && host.front() == '[' && host.back() == ']')
+    return inet_pton(AF_INET6, host.substr(1, host.size() - 2).c_str(), address) == 1;
   return inet_pton(AF_INET, host.c_str(), address) == 1;
 }
 
@@ -60,11 +64,13 @@ std::vector<std::string> fields_of(const std::uint8_t* data, std::size_t size) {
 }
 
 rig::fuzz::Request request_of(const std::vector<std::string>& f) {
-  static const http::verb kVerbs[] = {http::verb::get, http::verb::post, http::verb::head, http::verb::put, http::verb::delete_};
+  static const http::verb kVerbs[] = {http::verb::get, http::verb::post, http::verb::head,
+                                      http::verb::put, http::verb::delete_};
   rig::fuzz::Request request;
   request.method(kVerbs[f[0].size() % 5]);
   request.target(f.size() > 1 && !f[1].empty() ? f[1] : "/");
-  const http::field headers[] = {http::field::host, http::field::origin, http::field::authorization, http::field::content_type};
+  const http::field headers[] = {http::field::host, http::field::origin, http::field::authorization,
+                                 http::field::content_type};
   for (std::size_t k = 0; k < 4; ++k) {
     if (f.size() > k + 2) request.set(headers[k], f[k + 2]);
   }
@@ -75,14 +81,19 @@ void check_guard(const rig::api::RequestGuard& guard, const rig::fuzz::Request& 
   const std::string host(request[http::field::host]);
   const bool has_origin = request.find(http::field::origin) != request.end();
   const std::string origin(request[http::field::origin]);
-  if (!guard.refusal(request, false) && !host_is_ours(host)) fail("a foreign Host let through", host);
+  if (!guard.refusal(request, false) && !host_is_ours(host))
+    fail("a foreign Host let through", host);
   if (!guard.refusal(request, true)) {
-    if (!rig::fuzz::is_json_content_type(request)) fail("a command that is not JSON let through", std::string(request[http::field::content_type]));
-    if (has_origin && !origin_is_ours(origin, host)) fail("a command from a foreign page let through", origin);
+    if (!rig::fuzz::is_json_content_type(request))
+      fail("a command that is not JSON let through",
+           std::string(request[http::field::content_type]));
+    if (has_origin && !origin_is_ours(origin, host))
+      fail("a command from a foreign page let through", origin);
   }
   if (!guard.upgrade_refusal(request)) {
     if (!host_is_ours(host)) fail("an upgrade with a foreign Host let through", host);
-    if (has_origin && !origin_is_ours(origin, host)) fail("an upgrade from a foreign page let through", origin);
+    if (has_origin && !origin_is_ours(origin, host))
+      fail("an upgrade from a foreign page let through", origin);
   }
   (void)rig::api::host_without_port(host);
 }
@@ -94,13 +105,17 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   static const rig::api::ApiAuth without_token{std::nullopt};
   static const rig::api::RequestGuard guard{"http://rig07:8080", "rigbench"};
   const rig::fuzz::Request request = request_of(fields_of(data, size));
-  if (!without_token.authorized(request)) fail("refused without a token configured", std::string(request.target()));
-  if (with_token.authorized(request) && !rig::fuzz::carries_token(request)) fail("authorized without the token", std::string(request.target()));
+  if (!without_token.authorized(request))
+    fail("refused without a token configured", std::string(request.target()));
+  if (with_token.authorized(request) && !rig::fuzz::carries_token(request))
+    fail("authorized without the token", std::string(request.target()));
   const std::string bearer(request[http::field::authorization]);
-  if (bearer == std::string("Bearer ") + rig::fuzz::kToken && !with_token.authorized(request)) fail("the right bearer token refused", bearer);
+  if (bearer == std::string("Bearer ") + rig::fuzz::kToken && !with_token.authorized(request))
+    fail("the right bearer token refused", bearer);
   check_guard(guard, request);
   const std::string target(request.target());
-  if (rig::api::is_safety_request(request) && (request.method() != http::verb::post || target.rfind("/api/", 0) != 0)) {
+  if (rig::api::is_safety_request(request) &&
+      (request.method() != http::verb::post || target.rfind("/api/", 0) != 0)) {
     fail("not a stop, yet exempt from every check", target);
   }
   return 0;

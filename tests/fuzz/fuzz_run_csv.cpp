@@ -13,7 +13,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::istringstream in(std::string(reinterpret_cast<const char*>(data), size));
   try {
     const rig::model::RunData run = rig::model::read_run_csv(in, "fuzz.csv");
-    if (run.t_s.size() != run.x_mm.size() || run.t_s.size() != run.force_N.size()) __builtin_trap();  // columns must agree
+    if (run.t_s.size() != run.x_mm.size() || run.t_s.size() != run.force_N.size())
+      __builtin_trap();  // columns must agree
   } catch (const std::runtime_error&) {
     // refused with a message: fine
   }

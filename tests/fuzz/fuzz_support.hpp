@@ -3,6 +3,7 @@
 // token they run with, and the independent checks of what an answered request must carry.
 #include <boost/beast/http.hpp>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -11,7 +12,6 @@
 #include <filesystem>
 #include <optional>
 #include <string>
-#include <unistd.h>
 
 namespace rig::fuzz {
 
@@ -53,14 +53,16 @@ inline std::optional<Request> parse_request(const std::uint8_t* data, std::size_
 }
 
 inline std::string lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  std::transform(s.begin(), s.end(), s.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
 }
 
 inline std::string percent_decoded(const std::string& text) {
   std::string out;
   for (std::size_t i = 0; i < text.size(); ++i) {
-    if (text[i] == '%' && i + 2 < text.size() && std::isxdigit(static_cast<unsigned char>(text[i + 1])) != 0 &&
+    if (text[i] == '%' && i + 2 < text.size() &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 1])) != 0 &&
         std::isxdigit(static_cast<unsigned char>(text[i + 2])) != 0) {
       out.push_back(static_cast<char>(std::strtol(text.substr(i + 1, 2).c_str(), nullptr, 16)));
       i += 2;
@@ -73,10 +75,12 @@ inline std::string percent_decoded(const std::string& text) {
 
 // The token as a bearer header, or anywhere in the (decoded) query string.
 inline bool carries_token(const Request& request) {
-  if (std::string(request[http::field::authorization]) == std::string("Bearer ") + kToken) return true;
+  if (std::string(request[http::field::authorization]) == std::string("Bearer ") + kToken)
+    return true;
   const std::string target(request.target());
   const auto q = target.find('?');
-  return q != std::string::npos && percent_decoded(target.substr(q)).find(kToken) != std::string::npos;
+  return q != std::string::npos &&
+         percent_decoded(target.substr(q)).find(kToken) != std::string::npos;
 }
 
 inline bool is_json_content_type(const Request& request) {

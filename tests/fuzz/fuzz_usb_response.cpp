@@ -23,6 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   usbdaq::Message reply{};
   const std::size_t n = device.handle(bytes, reply, now_s += 1e-3);
   if (n > reply.size()) __builtin_trap();
-  if (n > 0 && !usbdaq::decode_header(std::span<const std::uint8_t>(reply.data(), n))) __builtin_trap();  // answers must be well-formed
+  if (n > 0 && !usbdaq::decode_header(std::span<const std::uint8_t>(reply.data(), n)))
+    __builtin_trap();  // answers must be well-formed
   return 0;
 }

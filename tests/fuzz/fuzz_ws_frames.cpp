@@ -33,11 +33,13 @@ rig::fuzz::Request upgrade_request() {
 }
 
 struct Session {
-  Session(boost::asio::io_context& context, beast::test::stream&& socket) : io(&context), ws(std::move(socket)) {}
+  Session(boost::asio::io_context& context, beast::test::stream&& socket)
+      : io(&context), ws(std::move(socket)) {}
   void read() {
     ws.async_read(buffer, [this](beast::error_code ec, std::size_t n) {
       if (ec) return end();
-      if (n > kMaxMessage || buffer.size() > kMaxMessage) rig::fuzz::fail("a message longer than read_message_max", std::to_string(n));
+      if (n > kMaxMessage || buffer.size() > kMaxMessage)
+        rig::fuzz::fail("a message longer than read_message_max", std::to_string(n));
       buffer.consume(buffer.size());
       ++messages;
       read();
@@ -74,6 +76,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   session.ws.next_layer().append(beast::string_view(reinterpret_cast<const char*>(data), size));
   session.ws.next_layer().close_remote();  // the client sends nothing more: EOF after its bytes
   const std::size_t handlers = io.run_for(std::chrono::seconds(5));
-  if (!session.ended) rig::fuzz::fail("the stream did not end within 5 s", std::to_string(handlers));
+  if (!session.ended)
+    rig::fuzz::fail("the stream did not end within 5 s", std::to_string(handlers));
   return 0;
 }

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "archive.hpp"
-#include "long_run.hpp"
 #include "http_probe.hpp"
+#include "long_run.hpp"
 #include "rig_processes.hpp"
 #include "safety_answers.hpp"
 
@@ -25,7 +25,9 @@ using boost::beast::http::verb;
 using Clock = std::chrono::steady_clock;
 using testing::expect_each_answered_in_time;
 
-model::RunData long_run(std::size_t samples) { return testing::long_run(samples, 1e-3); }  // [s] apart
+model::RunData long_run(std::size_t samples) {
+  return testing::long_run(samples, 1e-3);
+}  // [s] apart
 
 // Lines of a run-CSV that are neither metadata ("# key: value") nor the column header.
 std::size_t sample_lines(const std::string& csv) {

@@ -2,8 +2,8 @@
 // metrics, and a client that stops reading cannot stall the loop or the other clients.
 #include <gtest/gtest.h>
 #include <netinet/in.h>
-#include <nlohmann/json.hpp>
 #include <sys/socket.h>
+#include <nlohmann/json.hpp>
 
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/ip/udp.hpp>
@@ -54,10 +54,10 @@ TEST(LiveStreams, WebSocketBatchesCarryEverySampleWithItsTimeModelAndResidualAnd
   }
   EXPECT_TRUE(model_seen) << "a new client gets the model curve first";
   EXPECT_TRUE(contiguous) << "no sample is skipped for a client that keeps up";
-  EXPECT_GT(samples, 1500U);               // 1 kHz for 2 s, in batches of 50 ms
+  EXPECT_GT(samples, 1500U);  // 1 kHz for 2 s, in batches of 50 ms
   EXPECT_GT(batches, 20U);
   EXPECT_GE(frames, 5U);
-  EXPECT_LE(frames, 2 * 30U + 2);          // at most 30 Hz (camera_max_hz 15 in the sim config)
+  EXPECT_LE(frames, 2 * 30U + 2);  // at most 30 Hz (camera_max_hz 15 in the sim config)
 }
 
 TEST(LiveStreams, PlotJugglerGetsBatchedJsonOverUdpWithAnExplicitTimestamp) {
@@ -65,7 +65,8 @@ TEST(LiveStreams, PlotJugglerGetsBatchedJsonOverUdpWithAnExplicitTimestamp) {
   boost::asio::ip::udp::socket receiver(io, {boost::asio::ip::make_address("127.0.0.1"), 0});
   const int port = receiver.local_endpoint().port();
   testing::ScratchDir dir("streams-udp");
-  testing::RigProcesses rig(dir, {}, {"stream.udp_enabled=true", "stream.udp_port=" + std::to_string(port)});
+  testing::RigProcesses rig(dir, {},
+                            {"stream.udp_enabled=true", "stream.udp_port=" + std::to_string(port)});
   std::array<char, 65536> buffer{};
   for (int i = 0; i < 3; ++i) {
     const std::size_t n = receiver.receive(boost::asio::buffer(buffer));
@@ -88,7 +89,8 @@ TEST(LiveStreams, AClientThatStopsReadingLosesOnlyItsOwnMessages) {
   const auto end = Clock::now() + std::chrono::seconds(20);
   while (Clock::now() < end && (dropped <= 0 || healthy_batches < 100)) {
     if (healthy.next()["type"] == "samples") ++healthy_batches;
-    if (healthy_batches % 20 == 0) dropped = metric(rig.api().get("/metrics").body, "rigd_stream_messages_dropped_total");
+    if (healthy_batches % 20 == 0)
+      dropped = metric(rig.api().get("/metrics").body, "rigd_stream_messages_dropped_total");
   }
   EXPECT_GT(dropped, 0) << "the stuck client's bounded queue overflowed";
   EXPECT_GE(healthy_batches, 100U) << "the other client kept receiving";
@@ -105,8 +107,10 @@ TEST(LiveStreams, AHalfSentRequestDoesNotBlockOtherClients) {
   std::regex_search(url, m, std::regex(R"(http://([^:]+):(\d+))"));
   boost::asio::io_context io;
   boost::asio::ip::tcp::socket slow(io);
-  slow.connect({boost::asio::ip::make_address(m[1].str()), static_cast<unsigned short>(std::stoi(m[2].str()))});
-  boost::asio::write(slow, boost::asio::buffer(std::string("GET /api/status HTTP/1.1\r\nHost: x\r\nX-Slow: ")));
+  slow.connect({boost::asio::ip::make_address(m[1].str()),
+                static_cast<unsigned short>(std::stoi(m[2].str()))});
+  boost::asio::write(
+      slow, boost::asio::buffer(std::string("GET /api/status HTTP/1.1\r\nHost: x\r\nX-Slow: ")));
   for (int i = 0; i < 20; ++i) EXPECT_EQ(rig.api().get("/api/status").status, 200);
 }
 
@@ -125,7 +129,8 @@ TEST(Metrics, ArePrometheusTextWithTheJitterHistogramAndDropCounters) {
   EXPECT_GE(metric(text, "rigd_archive_checkpoint_max_seconds"), 0);
   const auto status = nlohmann::json::parse(rig.api().get("/api/status").body);
   ASSERT_TRUE(status.contains("archive_commits")) << status.dump();
-  EXPECT_EQ(status["archive_commits"]["flush_interval_ms"], 50) << "config/rigd.sim.toml's archive.flush_interval_ms";
+  EXPECT_EQ(status["archive_commits"]["flush_interval_ms"], 50)
+      << "config/rigd.sim.toml's archive.flush_interval_ms";
   EXPECT_TRUE(status["archive_commits"].contains("checkpoints")) << status.dump();
   EXPECT_GE(metric(text, "rigd_stream_messages_dropped_total"), 0);
   EXPECT_NE(text.find("rigd_state{state=\"Idle\"} 1"), std::string::npos);

@@ -81,10 +81,10 @@ struct Recorded {
   std::vector<std::int64_t> samples;  // the tied frames' samples, in order: one index row each
   std::vector<double> latency_ms;
   std::uint64_t checksum_of_frame_10 = 0;
-  std::uint64_t incomplete = 0;  // frames delivered with missing packets (not in `frames`)
+  std::uint64_t incomplete = 0;           // frames delivered with missing packets (not in `frames`)
   std::uint64_t incomplete_at_start = 0;  // of them, before the first complete frame
-  std::uint64_t lost = 0;        // triggers the mapper reports unanswered, once the run is over
-  std::uint64_t untied = 0;      // frames with no trigger to tie them to
+  std::uint64_t lost = 0;    // triggers the mapper reports unanswered, once the run is over
+  std::uint64_t untied = 0;  // frames with no trigger to tie them to
 };
 
 // Where a run's tied frames go: its frame file and the archive's index.
@@ -385,8 +385,10 @@ TEST(AravisCamera, FiftySoftwareTriggeredFramesFromTheFakeGigECameraAreEachTiedT
   // The fake camera's stream can open with frames missing packets (docs/camera.md; under
   // ./rig stress 1 to 3 of them, every trigger still answered). After the first complete frame
   // none may come incomplete on loopback.
-  EXPECT_EQ(r.incomplete, r.incomplete_at_start) << "frames with missing packets on loopback, after the stream's first";
-  std::printf("incomplete frames: %llu, all before the first complete one: %s\n", static_cast<unsigned long long>(r.incomplete),
+  EXPECT_EQ(r.incomplete, r.incomplete_at_start)
+      << "frames with missing packets on loopback, after the stream's first";
+  std::printf("incomplete frames: %llu, all before the first complete one: %s\n",
+              static_cast<unsigned long long>(r.incomplete),
               r.incomplete == r.incomplete_at_start ? "yes" : "no");
   const Losses losses = losses_the_camera_excuses(r, exposed);
   EXPECT_EQ(r.lost, losses.unanswered.size())

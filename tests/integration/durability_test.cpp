@@ -1,11 +1,11 @@
 // Durability: rigd is killed with SIGKILL at a random moment of 50 runs (arming, approach,
 // cutting; two rigs with their own archives, 25 runs each, side by side); afterwards each
-// archive opens, passes SQLite's integrity check, every run is consistent (contiguous samples, times rising, outcome set at the next start) and at
-// most 100 ms of samples are missing at the end of any run. Prints the worst case
-// (docs/faults.md quotes it). Release tree, label durability.
+// archive opens, passes SQLite's integrity check, every run is consistent (contiguous samples,
+// times rising, outcome set at the next start) and at most 100 ms of samples are missing at the end
+// of any run. Prints the worst case (docs/faults.md quotes it). Release tree, label durability.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <signal.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <atomic>
@@ -28,8 +28,8 @@ struct Kill {
   std::int64_t run_id = 0;
   double cycle_at_kill = 0;  // the loop's cycle when the signal was sent (extrapolated at 1 kHz)
   std::string state;
-  std::string fault;         // the fault that ended the run before the kill, if it did
-  std::string commits;       // the recorder's commit tally just before the kill (for a failure)
+  std::string fault;    // the fault that ended the run before the kill, if it did
+  std::string commits;  // the recorder's commit tally just before the kill (for a failure)
 };
 
 // Runs that faulted by accident (the DAQ link starved on this shared VM) before the kill;
@@ -39,7 +39,8 @@ std::atomic<int> accidental_faults{0};
 // Starts a run and, unless it is to be killed while arming, waits until it cuts. Returns the
 // run id, 0 if the run faulted first (its reason in `why`), -1 if it was refused.
 std::int64_t start_run(RigProcesses& rig, bool wait_for_cutting, std::string& why) {
-  const auto reply = rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
+  const auto reply =
+      rig.api().post("/api/run", R"({"eye_id":"D","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8})");
   EXPECT_EQ(reply.status, 200) << reply.body;
   if (reply.status != 200) return -1;
   const std::int64_t id = json::parse(reply.body)["run_id"];
@@ -85,7 +86,8 @@ Kill run_and_kill(RigProcesses& rig, std::mt19937& rng, int i) {
   const json before = rig.status();
   const auto read_at = std::chrono::steady_clock::now();
   ::kill(rig.rigd().pid(), SIGKILL);
-  const double since_read_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at).count();
+  const double since_read_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - read_at).count();
   k.cycle_at_kill = before["loop"]["cycles"].get<double>() + since_read_s * 1000.0;
   k.state = before["state"];
   k.commits = before.value("archive_commits", json::object()).dump();
@@ -94,7 +96,8 @@ Kill run_and_kill(RigProcesses& rig, std::mt19937& rng, int i) {
     // lost. Its archive is still checked; the accidental fault is counted and printed.
     k.fault = before.dump();
     ++accidental_faults;
-    std::printf("DURABILITY | run %d faulted after it began cutting, before the kill: %s\n", i, k.fault.c_str());
+    std::printf("DURABILITY | run %d faulted after it began cutting, before the kill: %s\n", i,
+                k.fault.c_str());
   }
   return k;
 }
@@ -114,14 +117,17 @@ double check_run(archive::Database& db, const Kill& k) {
   const std::int64_t count = q.integer(0);
   if (count == 0) return -1.0;  // killed before cutting started: nothing to lose
   EXPECT_EQ(q.integer(2) - q.integer(1) + 1, count) << "a gap in run " << k.run_id;
-  auto order = db.prepare("SELECT COUNT(*) FROM samples a JOIN samples b ON a.run_id = b.run_id AND b.idx = a.idx + 1 "
-                          "WHERE a.run_id = ? AND b.t_s <= a.t_s");
+  auto order = db.prepare(
+      "SELECT COUNT(*) FROM samples a JOIN samples b ON a.run_id = b.run_id AND b.idx = a.idx + 1 "
+      "WHERE a.run_id = ? AND b.t_s <= a.t_s");
   order.bind(1, k.run_id);
   order.step();
   EXPECT_EQ(order.integer(0), 0) << "time goes backwards in run " << k.run_id;
   if (!k.fault.empty()) return -1.0;  // ended by its fault, not by the kill: no loss to judge
-  const double missing_ms = (k.cycle_at_kill - static_cast<double>(q.integer(2) + 1)) * 1.0;  // 1 ms per cycle
-  EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms << " ms; the recorder before the kill: " << k.commits;
+  const double missing_ms =
+      (k.cycle_at_kill - static_cast<double>(q.integer(2) + 1)) * 1.0;  // 1 ms per cycle
+  EXPECT_LE(missing_ms, 100.0) << "run " << k.run_id << " (" << k.state << ") lost " << missing_ms
+                               << " ms; the recorder before the kill: " << k.commits;
   return missing_ms;
 }
 
@@ -130,7 +136,8 @@ std::vector<Kill> kill_runs(const ScratchDir& dir, unsigned seed, std::string& a
   // The eye close to the home switch and homing at 6 mm/s: re-homing after each restart
   // (rigd always starts unhomed) takes a third of the time of the standard geometry.
   RigProcesses rig(dir, {"--surface-mm", "12"},
-                   {"motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6", "motion.retract_velocity_mm_s=6"});
+                   {"motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6",
+                    "motion.retract_velocity_mm_s=6"});
   std::mt19937 rng(seed);
   std::vector<Kill> kills;
   // 25 kills of runs that had not faulted by accident first; a run that faulted before its
@@ -179,11 +186,14 @@ TEST(Durability, FiftyKillsAtRandomMomentsLeaveAConsistentArchiveMissingAtMost10
   const auto clean = [](const std::vector<Kill>& kills) {
     return std::count_if(kills.begin(), kills.end(), [](const Kill& k) { return k.fault.empty(); });
   };
-  EXPECT_EQ(clean(kills_a) + clean(kills_b), 50) << "too many runs faulted by accident before their kill";
+  EXPECT_EQ(clean(kills_a) + clean(kills_b), 50)
+      << "too many runs faulted by accident before their kill";
   EXPECT_GE(runs_with_samples, 35) << "too few kills landed during cutting to mean anything";
-  std::printf("DURABILITY | 50 kills on 2 rigs, %d runs with samples | worst loss %.1f ms of samples (limit 100 ms)"
-              " | %d accidental faults before a kill (retried)\n",
-              runs_with_samples, worst_ms, accidental_faults.load());
+  std::printf(
+      "DURABILITY | 50 kills on 2 rigs, %d runs with samples | worst loss %.1f ms of samples "
+      "(limit 100 ms)"
+      " | %d accidental faults before a kill (retried)\n",
+      runs_with_samples, worst_ms, accidental_faults.load());
 }
 
 }  // namespace

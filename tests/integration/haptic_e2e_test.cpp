@@ -19,17 +19,24 @@ using nlohmann::json;
 using testing::run_command;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kPaperRmseN = 0.004, kPaperMaxN = 0.016;                  // haptic vs model, the paper's Omni
-constexpr double kPaperVsExperimentRmseN = 0.005, kPaperVsExperimentMaxN = 0.039;  // haptic vs measured
+constexpr double kPaperRmseN = 0.004, kPaperMaxN = 0.016;  // haptic vs model, the paper's Omni
+constexpr double kPaperVsExperimentRmseN = 0.005,
+                 kPaperVsExperimentMaxN = 0.039;  // haptic vs measured
 
-std::string rig_cli(const std::string& args) { return testing::bin("rig") + " " + args; }
+std::string rig_cli(const std::string& args) {
+  return testing::bin("rig") + " " + args;
+}
 
 TEST(HapticCli, TheSimulatedPhantomPrintsTheDocumentedFiguresAndBeatsThePaper) {
-  const auto result = run_command(rig_cli("--format json haptic --device sim --source model --velocity 2 --iop 15 --virtual-time"), false);
+  const auto result = run_command(
+      rig_cli(
+          "--format json haptic --device sim --source model --velocity 2 --iop 15 --virtual-time"),
+      false);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const json j = json::parse(result.output);
-  for (const char* key : {"rate_hz", "ticks", "overruns", "tick_p99_us", "rmse_vs_model_N", "max_vs_model_N", "rmse_vs_run_N",
-                          "max_vs_run_N", "mesh_vertices", "mesh_springs"}) {
+  for (const char* key :
+       {"rate_hz", "ticks", "overruns", "tick_p99_us", "rmse_vs_model_N", "max_vs_model_N",
+        "rmse_vs_run_N", "max_vs_run_N", "mesh_vertices", "mesh_springs"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_LT(j["rmse_vs_model_N"].get<double>(), kPaperRmseN);
@@ -42,12 +49,17 @@ TEST(HapticCli, TheSimulatedPhantomPrintsTheDocumentedFiguresAndBeatsThePaper) {
 
 TEST(HapticCli, ARecordedRunFromTheArchiveIsFeltAndComparedWithTheRunAndTheModel) {
   testing::ScratchDir dir("haptic-run");
-  ASSERT_EQ(run_command(rig_cli("sim generate --out " + dir.file("runs") + " --iops 15 --velocities 2 --depth 8")).exit_code, 0);
+  ASSERT_EQ(run_command(rig_cli("sim generate --out " + dir.file("runs") +
+                                " --iops 15 --velocities 2 --depth 8"))
+                .exit_code,
+            0);
   std::string files;
-  for (const auto& f : std::filesystem::directory_iterator(dir.file("runs"))) files += " " + f.path().string();
+  for (const auto& f : std::filesystem::directory_iterator(dir.file("runs")))
+    files += " " + f.path().string();
   const std::string archive = " --archive " + dir.file("archive.sqlite");
   ASSERT_EQ(run_command(rig_cli(archive + " import" + files)).exit_code, 0);
-  const auto result = run_command(rig_cli("--format json" + archive + " haptic --source run:1 --virtual-time"), false);
+  const auto result = run_command(
+      rig_cli("--format json" + archive + " haptic --source run:1 --virtual-time"), false);
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const json j = json::parse(result.output);
   ASSERT_TRUE(j["rmse_vs_run_N"].is_number()) << j.dump();
@@ -60,12 +72,16 @@ TEST(HapticCli, ARecordedRunFromTheArchiveIsFeltAndComparedWithTheRunAndTheModel
 }
 
 TEST(HapticCli, APhantomWithoutOpenHapticsIsAClearErrorAndExitsNonZero) {
-  const auto result = run_command(rig_cli("haptic --device phantom --source model --library /opt/none/libHD.so"));
+  const auto result =
+      run_command(rig_cli("haptic --device phantom --source model --library /opt/none/libHD.so"));
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("/opt/none/libHD.so"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("--device sim"), std::string::npos) << result.output;
   // Nothing else breaks: the simulated device still plays in the same installation.
-  EXPECT_EQ(run_command(rig_cli("haptic --device sim --source model --virtual-time --velocity 4 --depth 2")).exit_code, 0);
+  EXPECT_EQ(run_command(
+                rig_cli("haptic --device sim --source model --virtual-time --velocity 4 --depth 2"))
+                .exit_code,
+            0);
 }
 
 TEST(HapticCli, ABadSourceIsRefusedNamingWhatIsAccepted) {
@@ -89,7 +105,8 @@ TEST(RigdHaptics, ASessionStreamsTheCorneaAtThirtyHertzOrMoreAndRefusesASecondOn
   testing::ScratchDir dir("haptic-rigd");
   testing::RigProcesses rig(dir);
   testing::WsClient client(rig.url());
-  const auto started = rig.api().post("/api/haptic", R"({"device":"sim","source":"model","velocity_mm_s":4})");
+  const auto started =
+      rig.api().post("/api/haptic", R"({"device":"sim","source":"model","velocity_mm_s":4})");
   ASSERT_EQ(started.status, 202) << started.body;
   EXPECT_EQ(rig.api().post("/api/haptic", R"({"device":"sim","source":"model"})").status, 409);
   std::size_t frames = 0;
@@ -108,7 +125,8 @@ TEST(RigdHaptics, ASessionStreamsTheCorneaAtThirtyHertzOrMoreAndRefusesASecondOn
     for (const auto& z : m["z_mm"]) deepest = std::max(deepest, z.get<double>());
   }
   ASSERT_GT(frames, 10U);
-  EXPECT_GE((frames - 1) / (last_t - first_t), 30.0) << frames << " frames over " << last_t - first_t << " s";
+  EXPECT_GE((frames - 1) / (last_t - first_t), 30.0)
+      << frames << " frames over " << last_t - first_t << " s";
   EXPECT_TRUE(punctured) << "4 s at 4 mm/s go past the puncture";
   EXPECT_GT(deepest, 1.0) << "the tissue dents under the tip";
   const json done = wait_haptic_done(rig, 60);
@@ -141,12 +159,15 @@ TEST(RigdHaptics, TheLiveRigIsFeltDuringACutAndMatchesTheModelWithinTheRigsOwnEr
   json done;
   bool cut_done = false;
   // The subject is what the hand feels, not the loop's timing: a timing fault of the simulated
-  // rig on a busy machine ends that cut, printed as ACCIDENTAL; the session and the cut start again.
+  // rig on a busy machine ends that cut, printed as ACCIDENTAL; the session and the cut start
+  // again.
   for (int attempt = 0; attempt < 3; ++attempt) {
     ASSERT_TRUE(rig.prepare(why)) << why;
-    const auto session = rig.api().post("/api/haptic", R"({"device":"sim","source":"live","max_s":12})");
+    const auto session =
+        rig.api().post("/api/haptic", R"({"device":"sim","source":"live","max_s":12})");
     ASSERT_EQ(session.status, 202) << session.body;
-    const auto run = rig.post_run(R"({"eye_id":"LIVE1","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":6})");
+    const auto run =
+        rig.post_run(R"({"eye_id":"LIVE1","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":6})");
     ASSERT_EQ(run.status, 200) << run.body;
     json last;
     ASSERT_TRUE(rig.wait(
@@ -160,7 +181,8 @@ TEST(RigdHaptics, TheLiveRigIsFeltDuringACutAndMatchesTheModelWithinTheRigsOwnEr
     cut_done = last["state"] == "Done";
     if (cut_done) break;
     ASSERT_TRUE(cli::is_timing_fault(last.value("fault", ""))) << last.dump();
-    std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
+    std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n",
+                last.value("fault", "").c_str());
     rig.api().post("/api/reset");
     rig.wait([](const json& st) { return st["interlocks"]["link_ok"] == true; }, 10);
   }

@@ -37,12 +37,14 @@ TEST(HapticPlayback, TheSimulatedPhantomAt2MmPerSecondAndIop15FeelsTheModelBette
   const PlaybackResult result = play_model(2.0, 15.0);
   ASSERT_TRUE(result.vs_model);
   const ErrorFigures& e = *result.vs_model;
-  std::printf("haptic vs model at 2 mm/s, IOP 15: RMSE %.5f N, max %.5f N at %.3f mm over %zu ticks in contact\n", e.rmse_N,
-              e.max_N, e.max_at_depth_mm, e.samples);
-  EXPECT_GT(e.samples, 9000U);     // 9.85 mm in and out at 2 mm/s
-  EXPECT_LT(e.rmse_N, 0.004);      // the paper's figures
+  std::printf(
+      "haptic vs model at 2 mm/s, IOP 15: RMSE %.5f N, max %.5f N at %.3f mm over %zu ticks in "
+      "contact\n",
+      e.rmse_N, e.max_N, e.max_at_depth_mm, e.samples);
+  EXPECT_GT(e.samples, 9000U);  // 9.85 mm in and out at 2 mm/s
+  EXPECT_LT(e.rmse_N, 0.004);   // the paper's figures
   EXPECT_LT(e.max_N, 0.016);
-  EXPECT_LT(e.rmse_N, 0.001);      // our aim
+  EXPECT_LT(e.rmse_N, 0.001);  // our aim
   EXPECT_LT(e.max_N, 0.005);
   EXPECT_EQ(result.report.nonfinite_forces, 0U);
   EXPECT_EQ(result.report.clamped_ticks, 0U);
@@ -79,8 +81,8 @@ TEST(HapticPlayback, RenderingTheRawEncoderCountsWouldBeSeveralTimesWorse) {
   const ErrorFigures raw = felt_error(device.felt(), source);
   EXPECT_GT(raw.samples, 9000U);  // 9.85 mm in and out at 2 mm/s, as the estimated session
   const ErrorFigures estimated = *play_model(2.0, 15.0).vs_model;
-  std::printf("raw counts: RMSE %.5f N, max %.5f N; estimated: RMSE %.5f N, max %.5f N\n", raw.rmse_N, raw.max_N,
-              estimated.rmse_N, estimated.max_N);
+  std::printf("raw counts: RMSE %.5f N, max %.5f N; estimated: RMSE %.5f N, max %.5f N\n",
+              raw.rmse_N, raw.max_N, estimated.rmse_N, estimated.max_N);
   EXPECT_GT(raw.max_N, 5.0 * estimated.max_N);
 }
 
@@ -95,8 +97,9 @@ TEST(HapticPlayback, ARecordedRunIsFeltAsItsForceDisplacementCurveAndComparedWit
   Playback playback(o, model::ForceModel::paper_interpreted(), run);
   const PlaybackResult result = playback.run(nullptr, nullptr);
   ASSERT_TRUE(result.vs_run && result.vs_model);
-  std::printf("run source: haptic vs run RMSE %.5f N, max %.5f N; vs model RMSE %.5f N, max %.5f N\n", result.vs_run->rmse_N,
-              result.vs_run->max_N, result.vs_model->rmse_N, result.vs_model->max_N);
+  std::printf(
+      "run source: haptic vs run RMSE %.5f N, max %.5f N; vs model RMSE %.5f N, max %.5f N\n",
+      result.vs_run->rmse_N, result.vs_run->max_N, result.vs_model->rmse_N, result.vs_model->max_N);
   EXPECT_LT(result.vs_run->rmse_N, 0.004);
   EXPECT_LT(result.vs_run->max_N, 0.016);
   EXPECT_GT(result.vs_model->rmse_N, result.vs_run->rmse_N);  // the run is not the model
@@ -105,7 +108,8 @@ TEST(HapticPlayback, ARecordedRunIsFeltAsItsForceDisplacementCurveAndComparedWit
 class BlockingSource final : public ForceSource {
  public:
   double force_N(double depth_mm, double, double) const noexcept override {
-    if (armed_.load() && depth_mm > 0.5 && !blocked_.exchange(true)) std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    if (armed_.load() && depth_mm > 0.5 && !blocked_.exchange(true))
+      std::this_thread::sleep_for(std::chrono::milliseconds(150));
     return depth_mm > 0.0 ? 0.05 * depth_mm : 0.0;  // 0.05 N/mm: renderable
   }
   const char* describe() const noexcept override { return "blocking"; }
@@ -186,7 +190,9 @@ struct FakeHd {
     if (handle != nullptr) dlclose(handle);
   }
   template <typename F>
-  F symbol(const char* name) const { return reinterpret_cast<F>(dlsym(handle, name)); }
+  F symbol(const char* name) const {
+    return reinterpret_cast<F>(dlsym(handle, name));
+  }
 };
 
 // The stand-in libHD opened as a Phantom, and the paper's model at 15 mmHg to feel through it
@@ -204,7 +210,8 @@ TEST(OpenHaptics, TheServoRunsInTheSchedulerCallbackWithTheLimitsTheDeviceReport
   EXPECT_DOUBLE_EQ(device.limits().max_continuous_force_N, 0.6);
   EXPECT_DOUBLE_EQ(device.limits().max_stiffness_N_per_mm, 0.9);
   ServoSettings servo;
-  servo.surface_mm = drivers::Vec3{0.0, 0.0, 0.0};  // the fake stylus reaches it 1.5 s after the first frame
+  servo.surface_mm =
+      drivers::Vec3{0.0, 0.0, 0.0};  // the fake stylus reaches it 1.5 s after the first frame
   // Not a watchdog test (TheWatchdogTurnsForceOff… is): 500 ms, so a loaded machine's stall of
   // the fake scheduler thread cannot end the session.
   HapticSession session(device, source, servo, std::chrono::milliseconds(500));
@@ -261,14 +268,16 @@ TEST(OpenHaptics, AStalledServoHasTheDevicesForceOutputTurnedOffWhileItIsStillSt
     for (int waited_ms = 0; waited_ms < 5000 && force_output_enabled() != 1; waited_ms += 10)
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     enabled_before = force_output_enabled();
-    fake.symbol<void (*)(long)>("fake_hd_stall_scheduler")(3000);  // the servo thread stands still 3 s
+    fake.symbol<void (*)(long)>("fake_hd_stall_scheduler")(
+        3000);  // the servo thread stands still 3 s
     std::this_thread::sleep_for(std::chrono::milliseconds(1500));  // 6x the watchdog, still stalled
     enabled_during = force_output_enabled();
   });
   const SessionReport report = session.run(nullptr, nullptr, 10.0);
   injector.join();
   EXPECT_EQ(enabled_before, 1);
-  EXPECT_EQ(enabled_during, 0) << "force output must go off while the servo is stalled, not when it comes back";
+  EXPECT_EQ(enabled_during, 0)
+      << "force output must go off while the servo is stalled, not when it comes back";
   EXPECT_TRUE(report.watchdog_tripped);
   EXPECT_NE(report.fault.find("servo stalled"), std::string::npos) << report.fault;
 }

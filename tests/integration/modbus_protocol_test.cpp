@@ -24,13 +24,15 @@ using drivers::IoStatus;
 class ModbusProtocolTest : public ::testing::Test {
  protected:
   void SetUp() override {
-    server_ = std::make_unique<sim::ModbusSimServer>(physics_, sim::SimServerOptions{"127.0.0.1", 0});
+    server_ =
+        std::make_unique<sim::ModbusSimServer>(physics_, sim::SimServerOptions{"127.0.0.1", 0});
     thread_ = std::thread([this] { server_->run(stop_); });
     // The simulated DAQ answers at real-time priority, as rig-sim does: on a busy machine a
     // normally scheduled server thread can stay off the CPU past any time-out.
     sched_param param{};
     param.sched_priority = 70;
-    pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param);  // refused without privileges: fine
+    pthread_setschedparam(thread_.native_handle(), SCHED_FIFO,
+                          &param);  // refused without privileges: fine
     drivers::ModbusDaqSettings s;
     s.port = server_->port();
     s.response_timeout_us = 5000;  // generous: these tests check behaviour, not speed
@@ -123,7 +125,8 @@ TEST_F(ModbusProtocolTest, WhileALateAnswerIsOnItsWayNoFurtherRequestQueuesBehin
   const std::uint64_t sent = daq_->counters().transactions;
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_EQ(daq_->read(frame), IoStatus::kTimeout) << "the answer is still on its way";
-  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2)) << "waited for nothing";
+  EXPECT_LT(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(2))
+      << "waited for nothing";
   EXPECT_EQ(daq_->counters().transactions, sent) << "a request was queued behind the late one";
   panel_->set(proto::daq::sim_panel::kLateReplyUs, 0);
   std::this_thread::sleep_for(std::chrono::milliseconds(30));
@@ -136,10 +139,12 @@ TEST_F(ModbusProtocolTest, ADroppedLinkIsReportedAndReconnectedAfterItComesBack)
   panel_->set(proto::daq::sim_panel::kLinkDrop, 20);  // 200 ms
   drivers::AnalogFrame frame;
   const IoStatus dropped = daq_->read(frame);
-  EXPECT_TRUE(dropped == IoStatus::kLinkDown || dropped == IoStatus::kTimeout) << drivers::to_string(dropped);
+  EXPECT_TRUE(dropped == IoStatus::kLinkDown || dropped == IoStatus::kTimeout)
+      << drivers::to_string(dropped);
   std::this_thread::sleep_for(std::chrono::milliseconds(400));
   IoStatus status = IoStatus::kLinkDown;
-  for (int i = 0; i < 1000 && status != IoStatus::kOk; ++i) {  // reconnect attempts are spaced by cycles
+  for (int i = 0; i < 1000 && status != IoStatus::kOk;
+       ++i) {  // reconnect attempts are spaced by cycles
     status = daq_->read(frame);
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
@@ -156,20 +161,26 @@ TEST_F(ModbusProtocolTest, TheEstopButtonOnThePanelReachesTheDigitalInputs) {
   EXPECT_TRUE(inputs.estop);
 }
 
-std::string run_command(const std::string& command) { return testing::run_command(command).output; }
+std::string run_command(const std::string& command) {
+  return testing::run_command(command).output;
+}
 
 TEST_F(ModbusProtocolTest, MbpollAnIndependentClientReadsTheRegisterMap) {
   const std::string port = std::to_string(server_->port());
-  const std::string version = run_command("mbpoll -m tcp -p " + port + " -a 1 -r 12 -c 1 -t 3 -1 127.0.0.1");
+  const std::string version =
+      run_command("mbpoll -m tcp -p " + port + " -a 1 -r 12 -c 1 -t 3 -1 127.0.0.1");
   EXPECT_NE(version.find("[12]: \t1"), std::string::npos) << version;  // protocol version register
-  const std::string volts = run_command("mbpoll -m tcp -p " + port + " -a 1 -r 5 -c 1 -t 3:float -B -1 127.0.0.1");
+  const std::string volts =
+      run_command("mbpoll -m tcp -p " + port + " -a 1 -r 5 -c 1 -t 3:float -B -1 127.0.0.1");
   const auto at = volts.find("[5]:");
   ASSERT_NE(at, std::string::npos) << volts;
-  EXPECT_NEAR(std::stod(volts.substr(at + 5)), 0.05 + 0.2 * 12.0, 0.01);  // position volts, float32 ABCD
+  EXPECT_NEAR(std::stod(volts.substr(at + 5)), 0.05 + 0.2 * 12.0,
+              0.01);  // position volts, float32 ABCD
 }
 
 TEST_F(ModbusProtocolTest, MbpollCanPressTheSimulatedEstop) {
-  run_command("mbpoll -m tcp -p " + std::to_string(server_->port()) + " -a 1 -r 101 -t 4 -1 127.0.0.1 1");
+  run_command("mbpoll -m tcp -p " + std::to_string(server_->port()) +
+              " -a 1 -r 101 -t 4 -1 127.0.0.1 1");
   drivers::AnalogFrame frame;
   drivers::DigitalInputs inputs;
   ASSERT_EQ(daq_->read(frame), IoStatus::kOk);

@@ -25,14 +25,16 @@ using drivers::IoStatus;
 // socat linking two ptys at <dir>/ttyDAQ (the simulator's end) and <dir>/ttyHOST (ours).
 class PtyPair {
  public:
-  explicit PtyPair(const testing::ScratchDir& dir) : daq_(dir.file("ttyDAQ")), host_(dir.file("ttyHOST")) {
+  explicit PtyPair(const testing::ScratchDir& dir)
+      : daq_(dir.file("ttyDAQ")), host_(dir.file("ttyHOST")) {
     pid_ = fork();
     if (pid_ == 0) {
-      execlp("socat", "socat", ("pty,raw,echo=0,link=" + daq_).c_str(), ("pty,raw,echo=0,link=" + host_).c_str(),
-             static_cast<char*>(nullptr));
+      execlp("socat", "socat", ("pty,raw,echo=0,link=" + daq_).c_str(),
+             ("pty,raw,echo=0,link=" + host_).c_str(), static_cast<char*>(nullptr));
       _exit(127);
     }
-    for (int i = 0; i < 100 && !(std::filesystem::exists(daq_) && std::filesystem::exists(host_)); ++i) {
+    for (int i = 0; i < 100 && !(std::filesystem::exists(daq_) && std::filesystem::exists(host_));
+         ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
   }
@@ -92,7 +94,8 @@ TEST_F(ModbusRtuTest, TheDaqDriverReadsCalibratedVoltagesAndDrivesTheCarriageOve
   EXPECT_NEAR(frame.position_volts, 0.05 + 0.2 * 12.0, 0.01);  // carriage parked at 12 mm
   const double start_V = frame.position_volts;
   for (int i = 0; i < 100; ++i) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));  // sooner than a conversion is kStale
+    std::this_thread::sleep_for(
+        std::chrono::milliseconds(2));  // sooner than a conversion is kStale
     ASSERT_EQ(daq.read(frame), IoStatus::kOk);
     daq.write(drivers::DigitalOutputs{true, false});
     ASSERT_EQ(daq.write(drivers::DriveCommand{true, 5.0, 0.0}), IoStatus::kOk);
@@ -143,7 +146,8 @@ TEST_F(ModbusRtuTest, GarbageOverRtuIsRejectedAsBadData) {
 TEST_F(ModbusRtuTest, MbpollAnIndependentRtuClientReadsTheRegisterMap) {
   const std::string line = " -m rtu -a 1 -b 115200 -P none -1 " + pty_.host_end();
   const auto version = testing::run_command("mbpoll -r 12 -c 1 -t 3" + line);
-  EXPECT_NE(version.output.find("[12]: \t1"), std::string::npos) << version.output;  // protocol version register
+  EXPECT_NE(version.output.find("[12]: \t1"), std::string::npos)
+      << version.output;  // protocol version register
   const auto volts = testing::run_command("mbpoll -r 5 -c 1 -t 3:float -B" + line);
   const auto at = volts.output.find("[5]:");
   ASSERT_NE(at, std::string::npos) << volts.output;

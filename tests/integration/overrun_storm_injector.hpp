@@ -37,7 +37,8 @@ class OverrunStormInjector {
 
   // The thread of process `pid` named `name` (/proc/PID/task/*/comm); 0 if none.
   static pid_t thread_named(pid_t pid, const std::string& name) {
-    for (const auto& task : std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
+    for (const auto& task :
+         std::filesystem::directory_iterator("/proc/" + std::to_string(pid) + "/task")) {
       std::string comm;
       std::getline(std::ifstream(task.path() / "comm"), comm);
       if (comm == name) return static_cast<pid_t>(std::stol(task.path().filename().string()));
@@ -81,7 +82,8 @@ class OverrunStormInjector {
     for (const Stop& s : stops_) {
       in_window += std::max(0.0, (s.to_s - s.from_s) * 1e3 / period_ms - 1.0);
       while (stops_[oldest].to_s < s.to_s - window_s) {
-        in_window -= std::max(0.0, (stops_[oldest].to_s - stops_[oldest].from_s) * 1e3 / period_ms - 1.0);
+        in_window -=
+            std::max(0.0, (stops_[oldest].to_s - stops_[oldest].from_s) * 1e3 / period_ms - 1.0);
         ++oldest;
       }
       if (in_window >= missed) return s.to_s * 1e3;
@@ -99,9 +101,11 @@ class OverrunStormInjector {
     std::sort(gaps.begin(), gaps.end());
     const double gap_p90 = gaps.empty() ? 0.0 : gaps[gaps.size() * 9 / 10];
     char text[200];
-    std::snprintf(text, sizeof text, "%zu stops%s, median stopped %.2f ms, running between median %.2f ms, p90 %.2f ms",
-                  stops_.size(), realtime_ ? " (SCHED_FIFO 90)" : " (normal scheduling)", median(stopped), median(gaps),
-                  gap_p90);
+    std::snprintf(
+        text, sizeof text,
+        "%zu stops%s, median stopped %.2f ms, running between median %.2f ms, p90 %.2f ms",
+        stops_.size(), realtime_ ? " (SCHED_FIFO 90)" : " (normal scheduling)", median(stopped),
+        median(gaps), gap_p90);
     return text;
   }
 
@@ -112,7 +116,9 @@ class OverrunStormInjector {
     std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
     return v[v.size() / 2];
   }
-  double since_start_s() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
+  double since_start_s() const {
+    return std::chrono::duration<double>(Clock::now() - started_).count();
+  }
 
   Clock::time_point started_{};
   std::vector<Stop> stops_;  // written by the thread until stop() joined it

@@ -36,9 +36,11 @@ std::string unit_text() {
 TEST(SystemdUnit, PassesSystemdAnalyzeVerifyWithoutAWord) {
   ScratchDir dir("systemd-verify");
   // verify insists that ExecStart= exists: point it at this build's rigd.
-  const std::string unit = std::regex_replace(unit_text(), std::regex("/usr/sbin/rigd"), std::string(RIG_TEST_BIN_DIR) + "/rigd");
+  const std::string unit = std::regex_replace(unit_text(), std::regex("/usr/sbin/rigd"),
+                                              std::string(RIG_TEST_BIN_DIR) + "/rigd");
   std::ofstream(dir.file("rigd.service")) << unit;
-  const auto result = testing::run_command("systemd-analyze verify " + dir.file("rigd.service") + " 2>&1");
+  const auto result =
+      testing::run_command("systemd-analyze verify " + dir.file("rigd.service") + " 2>&1");
   EXPECT_EQ(result.exit_code, 0) << result.output;
   EXPECT_EQ(result.output, "") << "systemd-analyze has remarks (it exits 0 even for unknown keys)";
 }
@@ -46,22 +48,27 @@ TEST(SystemdUnit, PassesSystemdAnalyzeVerifyWithoutAWord) {
 TEST(SystemdUnit, AsksForNotifyWatchdogRealTimeADedicatedUserAndAReadOnlySystem) {
   const std::string unit = unit_text();
   for (const char* line : {"Type=notify", "WatchdogSec=", "LimitRTPRIO=", "LimitMEMLOCK=infinity",
-                           "AmbientCapabilities=CAP_SYS_NICE", "User=rigd", "ProtectSystem=strict", "StateDirectory=rigd",
-                           "ConfigurationDirectory=rigd", "DevicePolicy=closed", "DeviceAllow=char-gpiochip rw"}) {
+                           "AmbientCapabilities=CAP_SYS_NICE", "User=rigd", "ProtectSystem=strict",
+                           "StateDirectory=rigd", "ConfigurationDirectory=rigd",
+                           "DevicePolicy=closed", "DeviceAllow=char-gpiochip rw"}) {
     EXPECT_NE(unit.find(line), std::string::npos) << "missing: " << line;
   }
 }
 
 std::string unit_with_this_build() {
-  return std::regex_replace(unit_text(), std::regex("/usr/sbin/rigd"), std::string(RIG_TEST_BIN_DIR) + "/rigd");
+  return std::regex_replace(unit_text(), std::regex("/usr/sbin/rigd"),
+                            std::string(RIG_TEST_BIN_DIR) + "/rigd");
 }
 
 TEST(SystemdUnit, ItsSecurityExposureScoreIsAtMostThree) {
   ScratchDir dir("systemd-security");
   std::ofstream(dir.file("rigd.service")) << unit_with_this_build();
-  const auto result = testing::run_command("systemd-analyze security --offline=true " + dir.file("rigd.service"));
+  const auto result =
+      testing::run_command("systemd-analyze security --offline=true " + dir.file("rigd.service"));
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(result.output, m, std::regex(R"(Overall exposure level for rigd.service: ([0-9.]+))"))) << result.output;
+  ASSERT_TRUE(std::regex_search(
+      result.output, m, std::regex(R"(Overall exposure level for rigd.service: ([0-9.]+))")))
+      << result.output;
   const double exposure = std::stod(m[1].str());
   std::printf("systemd-analyze security: exposure %.1f\n", exposure);
   EXPECT_LE(exposure, 3.0) << result.output;
@@ -122,17 +129,25 @@ TEST(SystemdUnit, EverySystemCallRigdMakesWhileHomingAndCuttingPassesTheUnitsFil
   ScratchDir dir("systemd-syscalls");
   const std::string trace = dir.file("strace.log");
   {
-    RigProcesses rig(dir, {}, {}, {"/usr/bin/strace", "-f", "-qq", "--seccomp-bpf", "-e", "trace=!/^(" + pattern + ")$", "-o", trace});
+    RigProcesses rig(dir, {}, {},
+                     {"/usr/bin/strace", "-f", "-qq", "--seccomp-bpf", "-e",
+                      "trace=!/^(" + pattern + ")$", "-o", trace});
     // How far it gets is not the subject here (a loaded machine may fault the loop under
     // ptrace); which system calls were made on the way is. Coverage is printed.
     rig.api().post("/api/home");
-    rig.wait([](const nlohmann::json& s) { return s["state"] == "Ready" || s["state"] == "Fault"; }, 60);
-    std::string reached = rig.status()["state"] == "Ready" ? "homed" : "not homed (" + rig.status().value("fault", std::string()) + ")";
+    rig.wait([](const nlohmann::json& s) { return s["state"] == "Ready" || s["state"] == "Fault"; },
+             60);
+    std::string reached = rig.status()["state"] == "Ready"
+                              ? "homed"
+                              : "not homed (" + rig.status().value("fault", std::string()) + ")";
     if (reached == "homed") {
       rig.api().post("/api/tare");
       rig.wait([](const nlohmann::json& s) { return s["tared"] == true; }, 10);
-      rig.api().post("/api/run", R"({"eye_id":"SECCOMP","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":6})");
-      reached += rig.wait_state("Done", 30) ? ", cut to Done" : ", cut ended in " + rig.status().value("state", std::string());
+      rig.api().post("/api/run",
+                     R"({"eye_id":"SECCOMP","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":6})");
+      reached += rig.wait_state("Done", 30)
+                     ? ", cut to Done"
+                     : ", cut ended in " + rig.status().value("state", std::string());
     }
     std::printf("traced rigd: started, %s, SIGTERM\n", reached.c_str());
     // rigd is strace's child: SIGTERM it, so its shutdown's system calls are traced too; it
@@ -141,9 +156,11 @@ TEST(SystemdUnit, EverySystemCallRigdMakesWhileHomingAndCuttingPassesTheUnitsFil
     const pid_t rigd_pid = child.output.empty() ? -1 : static_cast<pid_t>(std::stol(child.output));
     ASSERT_GT(rigd_pid, 0) << "no rigd under strace";
     ::kill(rigd_pid, SIGTERM);
-    for (int i = 0; i < 100 && ::kill(rigd_pid, 0) == 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    for (int i = 0; i < 100 && ::kill(rigd_pid, 0) == 0; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
     if (::kill(rigd_pid, 0) == 0) ::kill(rigd_pid, SIGKILL);
-    for (int i = 0; i < 50 && rig.rigd().running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    for (int i = 0; i < 50 && rig.rigd().running(); ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   std::ifstream log(trace);
   ASSERT_TRUE(log.good()) << "strace wrote no trace";
@@ -151,9 +168,11 @@ TEST(SystemdUnit, EverySystemCallRigdMakesWhileHomingAndCuttingPassesTheUnitsFil
   const std::regex call(R"(^\d+\s+([a-z0-9_]+)\()");
   std::smatch m;
   while (std::getline(log, line)) {
-    if (std::regex_search(line, m, call) && m[1].str() != "execve") refused += line + "\n";  // execve: strace starting rigd
+    if (std::regex_search(line, m, call) && m[1].str() != "execve")
+      refused += line + "\n";  // execve: strace starting rigd
   }
-  EXPECT_EQ(refused, "") << "rigd would get EPERM under the unit's SystemCallFilter for:\n" << refused;
+  EXPECT_EQ(refused, "") << "rigd would get EPERM under the unit's SystemCallFilter for:\n"
+                         << refused;
 }
 
 // A datagram socket standing in for systemd's notify socket.
@@ -193,7 +212,9 @@ class NotifySocket {
 };
 
 int count_containing(const std::vector<std::string>& messages, const std::string& needle) {
-  return static_cast<int>(std::count_if(messages.begin(), messages.end(), [&](const std::string& m) { return m.find(needle) != std::string::npos; }));
+  return static_cast<int>(
+      std::count_if(messages.begin(), messages.end(),
+                    [&](const std::string& m) { return m.find(needle) != std::string::npos; }));
 }
 
 TEST(SystemdNotify, RigdSaysReadyFeedsTheWatchdogWhileItsLoopRunsAndSaysStopping) {
@@ -213,7 +234,9 @@ TEST(SystemdNotify, RigdSaysReadyFeedsTheWatchdogWhileItsLoopRunsAndSaysStopping
     messages.insert(messages.end(), after.begin(), after.end());
   }
   ASSERT_GE(count_containing(messages, "READY=1"), 1) << "no READY=1";
-  const auto ready = std::find_if(messages.begin(), messages.end(), [](const std::string& m) { return m.find("READY=1") != std::string::npos; });
+  const auto ready = std::find_if(messages.begin(), messages.end(), [](const std::string& m) {
+    return m.find("READY=1") != std::string::npos;
+  });
   EXPECT_NE(ready->find("STATUS=RT loop at"), std::string::npos) << *ready;
   EXPECT_GE(count_containing(messages, "WATCHDOG=1"), 5) << "fed about 10 times a second";
   EXPECT_EQ(count_containing(messages, "STOPPING=1"), 1);
@@ -224,7 +247,8 @@ TEST(WatchdogFeeder, FeedsWhileTheLoopAdvancesAndStopsFeedingWhenItStalls) {
   std::atomic<int> feeds{0};
   std::atomic<int> reports{0};
   service::WatchdogFeeder feeder(
-      std::chrono::milliseconds(20), [&] { return loop_running.load(); }, [&] { feeds.fetch_add(1); },
+      std::chrono::milliseconds(20), [&] { return loop_running.load(); },
+      [&] { feeds.fetch_add(1); },
       [&](const std::string& text) {
         EXPECT_NE(text.find("stalled"), std::string::npos);
         reports.fetch_add(1);
@@ -238,7 +262,8 @@ TEST(WatchdogFeeder, FeedsWhileTheLoopAdvancesAndStopsFeedingWhenItStalls) {
   EXPECT_LE(feeds.load(), fed_before_stall_ended) << "fed while the loop was stalled";
   EXPECT_EQ(reports.load(), 1) << "one report per stall, not one per period";
   loop_running.store(true);
-  while (feeds.load() <= fed_before_stall_ended) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  while (feeds.load() <= fed_before_stall_ended)
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
   feeder.stop();
 }
 

@@ -32,11 +32,15 @@ struct GpioSim : ::testing::Test {
   std::unique_ptr<drivers::GpioDigitalIo> io;
 
   void pull(unsigned line, bool up) {
-    ASSERT_TRUE(write_attribute(sysfs + "/sim_gpio" + std::to_string(line) + "/pull", up ? "pull-up" : "pull-down"));
+    ASSERT_TRUE(write_attribute(sysfs + "/sim_gpio" + std::to_string(line) + "/pull",
+                                up ? "pull-up" : "pull-down"));
   }
-  int line_value(unsigned line) { return std::stoi(read_attribute(sysfs + "/sim_gpio" + std::to_string(line) + "/value")); }
+  int line_value(unsigned line) {
+    return std::stoi(read_attribute(sysfs + "/sim_gpio" + std::to_string(line) + "/value"));
+  }
   void SetUp() override {
-    ASSERT_FALSE(chip.empty()) << "RIG_GPIO_CHIP not set: run inside the kernel VM (scenario_gpio.sh)";
+    ASSERT_FALSE(chip.empty())
+        << "RIG_GPIO_CHIP not set: run inside the kernel VM (scenario_gpio.sh)";
     pull(kHome, false);
     pull(kEnd, false);
     pull(kEstop, true);  // normally closed e-stop loop, intact = not pressed
@@ -100,8 +104,10 @@ TEST_F(GpioSim, ContactBounceOnReleaseIsFiltered) {
   // The kernel may merge the bounce's edges (seen: two events for three pulls) and label
   // them late, so no edge count holds. What must hold: the release is believed only 2 ms
   // after the last edge, whose kernel timestamp is no earlier than last_bounce_ns.
-  ASSERT_FALSE(read_until(&DigitalInputs::estop, false)) << "a steady release never read as released";
-  EXPECT_GE(clock.now_ns() - last_bounce_ns, 2'000'000) << "released before the 2 ms debounce ran out";
+  ASSERT_FALSE(read_until(&DigitalInputs::estop, false))
+      << "a steady release never read as released";
+  EXPECT_GE(clock.now_ns() - last_bounce_ns, 2'000'000)
+      << "released before the 2 ms debounce ran out";
   wait_ms(5);
   EXPECT_FALSE(read_now().estop) << "released and steady: stays released";
 }
@@ -141,7 +147,9 @@ TEST_F(GpioSim, TheLoopStopsTheMotorInTheCycleThatReadsTheEstop) {
   channels.commands.push(rt::Command{rt::CommandKind::kHome, 1, {}});
   std::vector<rt::Sample> samples;
   rt::Sample s;
-  const auto drain = [&] { while (channels.stream.try_pop(s)) samples.push_back(s); };
+  const auto drain = [&] {
+    while (channels.stream.try_pop(s)) samples.push_back(s);
+  };
   for (int i = 0; i < 400 && line_value(kEnable) == 0; ++i) wait_ms(5);  // homing: motor powered
   ASSERT_EQ(line_value(kEnable), 1) << "homing never enabled the motor";
   wait_ms(100);
@@ -158,12 +166,16 @@ TEST_F(GpioSim, TheLoopStopsTheMotorInTheCycleThatReadsTheEstop) {
   EXPECT_EQ(while_pressed, rt::RunState::kEStop) << "reset must not clear a pressed e-stop";
   std::size_t first_estop = samples.size();
   for (std::size_t i = 0; i < samples.size(); ++i)
-    if (samples[i].state == rt::RunState::kEStop) { first_estop = i; break; }
+    if (samples[i].state == rt::RunState::kEStop) {
+      first_estop = i;
+      break;
+    }
   ASSERT_LT(first_estop, samples.size()) << "no sample in EStop";
   ASSERT_GT(first_estop, 0U);
   EXPECT_NE(samples[first_estop - 1].motor_volts, 0.0) << "the motor was driven the cycle before";
   for (std::size_t i = first_estop; i < samples.size(); ++i)
-    ASSERT_EQ(samples[i].motor_volts, 0.0) << "motor driven " << (i - first_estop) << " cycles after the e-stop";
+    ASSERT_EQ(samples[i].motor_volts, 0.0)
+        << "motor driven " << (i - first_estop) << " cycles after the e-stop";
 }
 
 }  // namespace

@@ -28,7 +28,8 @@ struct Gadget : ::testing::Test {
   std::string udc = env_or_empty("RIG_UDC");
   drivers::UsbDaqSettings settings;
   void SetUp() override {
-    ASSERT_FALSE(gadget_dir.empty()) << "RIG_USB_GADGET_DIR not set: run inside the kernel VM (scenario_usb.sh)";
+    ASSERT_FALSE(gadget_dir.empty())
+        << "RIG_USB_GADGET_DIR not set: run inside the kernel VM (scenario_usb.sh)";
     settings.timeout_ms = 200;  // QEMU's TCG: a round trip takes far longer than on hardware
     settings.watchdog_ms = 50;
     settings.reconnect_every_cycles = 5;
@@ -63,7 +64,8 @@ TEST_F(Gadget, DrivesTheMotorThroughTheDevice) {
   ASSERT_EQ(daq.read(before), IoStatus::kOk);
   drive(daq, -6.0, 100);
   ASSERT_EQ(daq.read(after), IoStatus::kOk);
-  EXPECT_GT(std::abs(after.position_volts - before.position_volts), 0.01) << "the carriage did not move";
+  EXPECT_GT(std::abs(after.position_volts - before.position_volts), 0.01)
+      << "the carriage did not move";
   EXPECT_EQ(daq.write(drivers::DriveCommand{}), IoStatus::kOk);
 }
 
@@ -80,11 +82,15 @@ TEST_F(Gadget, TheDeviceDropsItsOutputsWhenTheHostFallsSilent) {
 // reply: what a session leaves queued when its greeting times out (rigd restarted, or a host
 // stalled past the time-out). Returns false if the device could not be reached.
 bool leave_a_hello_reply_queued(const drivers::UsbDaqSettings& settings) {
-  libusb_set_option(nullptr, LIBUSB_OPTION_NO_DEVICE_DISCOVERY);  // as the driver: no udevd in the VM
+  libusb_set_option(nullptr,
+                    LIBUSB_OPTION_NO_DEVICE_DISCOVERY);  // as the driver: no udevd in the VM
   for (const auto& entry : std::filesystem::directory_iterator(settings.sysfs_root)) {
-    std::ifstream vendor(entry.path() / "idVendor"), product(entry.path() / "idProduct"), bus(entry.path() / "busnum"), dev(entry.path() / "devnum");
+    std::ifstream vendor(entry.path() / "idVendor"), product(entry.path() / "idProduct"),
+        bus(entry.path() / "busnum"), dev(entry.path() / "devnum");
     int vid = 0, pid = 0, busnum = 0, devnum = 0;
-    if (!(vendor >> std::hex >> vid && product >> std::hex >> pid && bus >> busnum && dev >> devnum)) continue;
+    if (!(vendor >> std::hex >> vid && product >> std::hex >> pid && bus >> busnum &&
+          dev >> devnum))
+      continue;
     if (vid != settings.vendor_id || pid != settings.product_id) continue;
     char node[64];
     std::snprintf(node, sizeof node, "%s/%03d/%03d", settings.devfs_root.c_str(), busnum, devnum);
@@ -92,20 +98,24 @@ bool leave_a_hello_reply_queued(const drivers::UsbDaqSettings& settings) {
     libusb_context* ctx = nullptr;
     libusb_device_handle* handle = nullptr;
     bool sent = false;
-    if (fd >= 0 && libusb_init(&ctx) == 0 && libusb_wrap_sys_device(ctx, fd, &handle) == 0 && libusb_claim_interface(handle, 0) == 0) {
+    if (fd >= 0 && libusb_init(&ctx) == 0 && libusb_wrap_sys_device(ctx, fd, &handle) == 0 &&
+        libusb_claim_interface(handle, 0) == 0) {
       drivers::usbdaq::Message request{};
-      const std::size_t length = drivers::usbdaq::encode_request(request, drivers::usbdaq::Opcode::kHello, 1);
+      const std::size_t length =
+          drivers::usbdaq::encode_request(request, drivers::usbdaq::Opcode::kHello, 1);
       unsigned char out_endpoint = 0;  // FunctionFS may renumber it: read it back
       libusb_config_descriptor* config = nullptr;
       if (libusb_get_active_config_descriptor(libusb_get_device(handle), &config) == 0) {
         const libusb_interface_descriptor& interface = config->interface[0].altsetting[0];
         for (int i = 0; i < interface.bNumEndpoints; ++i) {
-          if ((interface.endpoint[i].bEndpointAddress & LIBUSB_ENDPOINT_IN) == 0) out_endpoint = interface.endpoint[i].bEndpointAddress;
+          if ((interface.endpoint[i].bEndpointAddress & LIBUSB_ENDPOINT_IN) == 0)
+            out_endpoint = interface.endpoint[i].bEndpointAddress;
         }
         libusb_free_config_descriptor(config);
       }
       int done = 0;
-      sent = out_endpoint != 0 && libusb_bulk_transfer(handle, out_endpoint, request.data(), static_cast<int>(length), &done, 1000) == 0;
+      sent = out_endpoint != 0 && libusb_bulk_transfer(handle, out_endpoint, request.data(),
+                                                       static_cast<int>(length), &done, 1000) == 0;
       libusb_release_interface(handle, 0);
     }
     if (handle != nullptr) libusb_close(handle);
@@ -136,7 +146,8 @@ TEST_F(Gadget, AnUnpluggedDeviceIsALinkLossAndIsFoundAgainWhenPluggedBack) {
   drivers::UsbDaq daq(settings);
   AnalogFrame f;
   ASSERT_EQ(daq.read(f), IoStatus::kOk);
-  ASSERT_TRUE(write_attribute(gadget_dir + "/UDC", "\n")) << "unbinding the UDC (pulling the cable)";
+  ASSERT_TRUE(write_attribute(gadget_dir + "/UDC", "\n"))
+      << "unbinding the UDC (pulling the cable)";
   IoStatus status = IoStatus::kOk;
   for (int i = 0; i < 50 && status == IoStatus::kOk; ++i) {
     status = daq.read(f);

@@ -24,7 +24,8 @@ struct Vivid : ::testing::Test {
   std::string device = env_or_empty("RIG_VIDEO");
   drivers::CameraSettings settings;
   void SetUp() override {
-    ASSERT_FALSE(device.empty()) << "RIG_VIDEO not set: run inside the kernel VM (scenario_v4l2.sh)";
+    ASSERT_FALSE(device.empty())
+        << "RIG_VIDEO not set: run inside the kernel VM (scenario_v4l2.sh)";
     settings.width = 640;
     settings.height = 480;
     settings.frame_rate_hz = 25.0;
@@ -62,7 +63,8 @@ TEST_F(Vivid, StreamsFramesWithRisingSequenceAndKernelTimestampsOnTheHostClock) 
     }
     // Same time line: vivid stamps each frame with its nominal time, which can lead its
     // delivery by up to a frame period; a UVC camera stamps the start of the frame.
-    const auto skew_ns = static_cast<std::int64_t>(f.host_timestamp_ns) - static_cast<std::int64_t>(f.camera_timestamp_ns);
+    const auto skew_ns = static_cast<std::int64_t>(f.host_timestamp_ns) -
+                         static_cast<std::int64_t>(f.camera_timestamp_ns);
     EXPECT_LT(std::abs(skew_ns), 200'000'000) << "kernel time stamp and host clock disagree";
     last_id = f.frame_id;
     last_ts = f.camera_timestamp_ns;
@@ -88,7 +90,8 @@ TEST_F(Vivid, FramesGoToTheRunsFrameFileIndexedByTheSampleOfTheirTimestamp) {
     archive::FrameRow row;
     row.run_id = run;
     row.frame_no = i;
-    row.sample_index = (static_cast<std::int64_t>(f.camera_timestamp_ns) - loop_start_ns) / kPeriod_ns;
+    row.sample_index =
+        (static_cast<std::int64_t>(f.camera_timestamp_ns) - loop_start_ns) / kPeriod_ns;
     row.camera_ts_ns = static_cast<std::int64_t>(f.camera_timestamp_ns);
     row.host_ts_ns = static_cast<std::int64_t>(f.host_timestamp_ns);
     row.file_offset = file.append(f.pixels);

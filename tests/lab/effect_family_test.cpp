@@ -19,13 +19,15 @@ namespace rig::model {
 namespace {
 
 struct FormScenario {
-  std::string hidden;          // rig-sim effect spec: name[:form][=size]
-  std::string effect;          // the catalogue entry
+  std::string hidden;              // rig-sim effect spec: name[:form][=size]
+  std::string effect;              // the catalogue entry
   std::vector<std::string> forms;  // the lab forms that describe the hidden form
   bool holds = false;
 };
 
-void PrintTo(const FormScenario& s, std::ostream* os) { *os << s.hidden; }
+void PrintTo(const FormScenario& s, std::ostream* os) {
+  *os << s.hidden;
+}
 
 std::string chosen_form(const std::vector<RunData>& data, const std::string& effect) {
   std::vector<PreparedRun> prepared;
@@ -40,7 +42,8 @@ std::string chosen_form(const std::vector<RunData>& data, const std::string& eff
 // The shared needle data: beside the checkout, or beside the directory of worktrees.
 std::string needle_csv() {
   const std::string name = "data/okamura2004-needle/needle-liver-insert-hold-retract.csv";
-  for (std::filesystem::path dir = testing::source(""); !dir.empty() && dir != dir.root_path(); dir = dir.parent_path()) {
+  for (std::filesystem::path dir = testing::source(""); !dir.empty() && dir != dir.root_path();
+       dir = dir.parent_path()) {
     if (std::filesystem::exists(dir / "shared" / name)) return (dir / "shared" / name).string();
   }
   return testing::shared_dir(name);
@@ -57,9 +60,11 @@ TEST_P(NonDefaultForm, IsPickedByItsFamilyNamedInTheEvidenceAndBringsTheErrorToT
   const Diagnosis d = diagnose(ForceModel::paper_interpreted(), runs, only);
   ASSERT_EQ(d.candidates.size(), 1U);
   const CandidateResult& c = d.candidates.front();
-  std::printf("%-32s form '%s': CV RMSE %.5f -> %.5f N, floor %.5f N (%.2fx)\n  %s\n", s.hidden.c_str(), form.c_str(), d.baseline_cv_rmse_N,
-              c.cv_rmse_N, d.noise_floor_N, c.cv_rmse_N / d.noise_floor_N, c.evidence.c_str());
-  EXPECT_NE(std::find(s.forms.begin(), s.forms.end(), form), s.forms.end()) << "chose '" << form << "'";
+  std::printf("%-32s form '%s': CV RMSE %.5f -> %.5f N, floor %.5f N (%.2fx)\n  %s\n",
+              s.hidden.c_str(), form.c_str(), d.baseline_cv_rmse_N, c.cv_rmse_N, d.noise_floor_N,
+              c.cv_rmse_N / d.noise_floor_N, c.evidence.c_str());
+  EXPECT_NE(std::find(s.forms.begin(), s.forms.end(), form), s.forms.end())
+      << "chose '" << form << "'";
   EXPECT_NE(c.evidence.find("form chosen by BIC"), std::string::npos) << c.evidence;
   EXPECT_EQ(c.evidence.find("did not leave its start"), std::string::npos) << c.evidence;
   EXPECT_TRUE(c.significant) << c.evidence;
@@ -68,19 +73,29 @@ TEST_P(NonDefaultForm, IsPickedByItsFamilyNamedInTheEvidenceAndBringsTheErrorToT
 
 INSTANTIATE_TEST_SUITE_P(
     EveryFamily, NonDefaultForm,
-    ::testing::Values(FormScenario{"shaft_friction:linear", "shaft_friction", {"coulomb"}},
-                      FormScenario{"rate_dependence:exp_saturating", "rate_dependence", {"saturating", "log-quadratic"}},
-                      FormScenario{"rig_compliance:stiffening=2", "rig_compliance", {"stiffening"}},
-                      FormScenario{"sensor_drift:warmup=2", "sensor_drift", {"thermal"}},
-                      FormScenario{"stress_relaxation:exponential", "stress_relaxation", {"one exponential"}, true},
-                      FormScenario{"stress_relaxation:mittag_leffler", "stress_relaxation", {"stretched exponential", "power law", "two-term Prony"}, true},
-                      FormScenario{"spatial_ripple", "spatial_ripple", {"sine"}},
-                      FormScenario{"mains_interference", "mains_interference", {"sine"}},
-                      FormScenario{"stick_slip:sine", "stick_slip", {"sine"}},
-                      FormScenario{"iop_stiffness:recruitment=2", "iop_stiffness", {"exponential-quadratic", "exponential"}},
-                      // a softening of the cut that sets in around 2 h post mortem (the simulator has
-                      // had no linear covariate form since 2026-11-24: the scenario named none)
-                      FormScenario{"covariate:post_mortem_h:sigmoid=2", "covariate:post_mortem_h", {"after the puncture only"}}),
+    ::testing::Values(
+        FormScenario{"shaft_friction:linear", "shaft_friction", {"coulomb"}},
+        FormScenario{
+            "rate_dependence:exp_saturating", "rate_dependence", {"saturating", "log-quadratic"}},
+        FormScenario{"rig_compliance:stiffening=2", "rig_compliance", {"stiffening"}},
+        FormScenario{"sensor_drift:warmup=2", "sensor_drift", {"thermal"}},
+        FormScenario{
+            "stress_relaxation:exponential", "stress_relaxation", {"one exponential"}, true},
+        FormScenario{"stress_relaxation:mittag_leffler",
+                     "stress_relaxation",
+                     {"stretched exponential", "power law", "two-term Prony"},
+                     true},
+        FormScenario{"spatial_ripple", "spatial_ripple", {"sine"}},
+        FormScenario{"mains_interference", "mains_interference", {"sine"}},
+        FormScenario{"stick_slip:sine", "stick_slip", {"sine"}},
+        FormScenario{"iop_stiffness:recruitment=2",
+                     "iop_stiffness",
+                     {"exponential-quadratic", "exponential"}},
+        // a softening of the cut that sets in around 2 h post mortem (the simulator has
+        // had no linear covariate form since 2026-11-24: the scenario named none)
+        FormScenario{"covariate:post_mortem_h:sigmoid=2",
+                     "covariate:post_mortem_h",
+                     {"after the puncture only"}}),
     [](const ::testing::TestParamInfo<FormScenario>& param) {
       std::string name = param.param.hidden;
       for (char& c : name) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
@@ -97,23 +112,30 @@ std::vector<RunData> with_injected(const std::string& law, bool holds) {
     const PreparedRun p = prepare_run(run);
     for (std::size_t i = 0; i < run.size(); ++i) {
       if (law == "viscous") {
-        const double inserted_mm = std::max(0.0, std::min(run.x_mm[i], p.front_mm[i]) - p.seg.x_pi_mm);
-        if (p.seg.punctured) run.force_N[i] += 0.004 * inserted_mm * p.velocity_mm_s[i];  // 4 mN per mm per mm/s
+        const double inserted_mm =
+            std::max(0.0, std::min(run.x_mm[i], p.front_mm[i]) - p.seg.x_pi_mm);
+        if (p.seg.punctured)
+          run.force_N[i] += 0.004 * inserted_mm * p.velocity_mm_s[i];  // 4 mN per mm per mm/s
       } else if (law == "held") {
-        const double inserted_mm = std::max(0.0, std::min(run.x_mm[i], p.front_mm[i]) - p.seg.x_pi_mm);
-        const double dir = p.seg.phase[i] == Phase::kRetraction ? -1.0 : 1.0;  // loaded through the hold
-        if (p.seg.punctured) run.force_N[i] += 0.005 * inserted_mm * dir;      // 5 mN per mm
+        const double inserted_mm =
+            std::max(0.0, std::min(run.x_mm[i], p.front_mm[i]) - p.seg.x_pi_mm);
+        const double dir =
+            p.seg.phase[i] == Phase::kRetraction ? -1.0 : 1.0;  // loaded through the hold
+        if (p.seg.punctured) run.force_N[i] += 0.005 * inserted_mm * dir;  // 5 mN per mm
       } else if (p.hold_s[i] > 0.0) {  // in the hold, and as relaxed as it left the tissue after it
         const double t = p.hold_s[i];
-        run.force_N[i] *= 1.0 - 0.15 * (1.0 - std::exp(-t / 0.1)) - 0.2 * (1.0 - std::exp(-t / 2.0));
+        run.force_N[i] *=
+            1.0 - 0.15 * (1.0 - std::exp(-t / 0.1)) - 0.2 * (1.0 - std::exp(-t / 2.0));
       }
     }
   }
   return runs;
 }
 
-TEST(EffectFamilies, InjectedViscousFrictionFrictionHeldAtRestAndATwoTermSpectrumArePickedAndNamed) {
-  for (const auto& [law, effect, form, holds] : std::vector<std::tuple<std::string, std::string, std::string, bool>>{
+TEST(EffectFamilies,
+     InjectedViscousFrictionFrictionHeldAtRestAndATwoTermSpectrumArePickedAndNamed) {
+  for (const auto& [law, effect, form, holds] :
+       std::vector<std::tuple<std::string, std::string, std::string, bool>>{
            {"viscous", "shaft_friction", "viscous", false},
            {"held", "shaft_friction", "held at rest", true},
            {"prony", "stress_relaxation", "two-term Prony", true}}) {
@@ -123,7 +145,8 @@ TEST(EffectFamilies, InjectedViscousFrictionFrictionHeldAtRestAndATwoTermSpectru
     const Diagnosis d = diagnose(ForceModel::paper_interpreted(), runs, only);
     ASSERT_EQ(d.candidates.size(), 1U);
     const CandidateResult& c = d.candidates.front();
-    std::printf("injected %s: %.2fx floor; %s\n", law.c_str(), c.cv_rmse_N / d.noise_floor_N, c.evidence.c_str());
+    std::printf("injected %s: %.2fx floor; %s\n", law.c_str(), c.cv_rmse_N / d.noise_floor_N,
+                c.evidence.c_str());
     EXPECT_EQ(chosen_form(runs, effect), form);
     EXPECT_TRUE(c.significant) << c.evidence;
     EXPECT_LT(c.cv_rmse_N, 1.3 * d.noise_floor_N);
@@ -147,7 +170,8 @@ TEST(EffectFamilies, ASavedFormReloadsAsTheSameFormFromItsParameterNames) {
     EXPECT_GE(forms.size(), 2U) << name << " covers a single form";
     for (const std::string& form : forms) {
       EffectSetting setting{name, {{"mean", 2.0}, {"spread", 1.0}}};
-      for (const ParamSpec& spec : catalogue.make_form(name, form)->shared_params()) setting.params[spec.name] = spec.initial;
+      for (const ParamSpec& spec : catalogue.make_form(name, form)->shared_params())
+        setting.params[spec.name] = spec.initial;
       EXPECT_EQ(catalogue.make_saved(setting)->form(), form) << name;
       ++forms_seen;
     }
@@ -162,7 +186,8 @@ TEST(EffectFamilies, OnTheNeedleDataEveryApplicableCandidateNamesTheFormItChose)
   for (const CandidateResult& c : d.candidates) {
     if (!c.applicable) continue;
     ++applicable;
-    EXPECT_NE(c.evidence.find("form chosen by BIC"), std::string::npos) << c.effect << ": " << c.evidence;
+    EXPECT_NE(c.evidence.find("form chosen by BIC"), std::string::npos)
+        << c.effect << ": " << c.evidence;
   }
   EXPECT_GE(applicable, 3U);
   std::printf("needle: verdict %s\n", d.verdict.c_str());

@@ -21,12 +21,16 @@ const std::vector<RunData>& clean_runs() {
   return runs;
 }
 
-Explanation explain_timed(const std::vector<RunData>& runs, const char* what, const ExplainOptions& o = {}) {
+Explanation explain_timed(const std::vector<RunData>& runs, const char* what,
+                          const ExplainOptions& o = {}) {
   const auto start = std::chrono::steady_clock::now();
   Explanation e = explain(ForceModel::paper_interpreted(), runs, o);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  std::printf("%s: %s\n  where %s; baseline %.4f N, floor %.4f N, predicted %.4f N, after %.4f N; %.1f s\n", what, e.summary.c_str(),
-              e.where.c_str(), e.baseline_cv_rmse_N, e.noise_floor_N, e.predicted_cv_rmse_N, e.after_cv_rmse_N, seconds);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf(
+      "%s: %s\n  where %s; baseline %.4f N, floor %.4f N, predicted %.4f N, after %.4f N; %.1f s\n",
+      what, e.summary.c_str(), e.where.c_str(), e.baseline_cv_rmse_N, e.noise_floor_N,
+      e.predicted_cv_rmse_N, e.after_cv_rmse_N, seconds);
   return e;
 }
 

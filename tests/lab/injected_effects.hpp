@@ -11,7 +11,8 @@ namespace rig::testing {
 
 // Index of the deepest sample: insertion before it, (hold and) retraction after it.
 inline std::size_t deepest_sample(const model::RunData& run) {
-  return static_cast<std::size_t>(std::max_element(run.x_mm.begin(), run.x_mm.end()) - run.x_mm.begin());
+  return static_cast<std::size_t>(std::max_element(run.x_mm.begin(), run.x_mm.end()) -
+                                  run.x_mm.begin());
 }
 
 // A force k x^2 [N, x in mm] only while the blade is withdrawn (e.g. a lip dragged back out).
@@ -27,7 +28,8 @@ inline void add_retraction_square(std::vector<model::RunData>& runs, double k_N_
 // force grows by k_N * uses * x while inserting [N, x in mm].
 inline void add_blade_wear(std::vector<model::RunData>& runs, double k_N_per_use_mm) {
   for (std::size_t r = 0; r < runs.size(); ++r) {
-    const auto uses = static_cast<double>((r * 4) % runs.size());  // session order, not the design's order
+    const auto uses =
+        static_cast<double>((r * 4) % runs.size());  // session order, not the design's order
     runs[r].set("blade_uses", std::to_string(static_cast<int>(uses)));
     const std::size_t deepest = deepest_sample(runs[r]);
     for (std::size_t i = 0; i <= deepest; ++i) {

@@ -24,12 +24,13 @@ inline sim::GeneratorOptions generator_with(const std::vector<std::string>& hidd
   return g;
 }
 
-inline std::vector<model::RunData> scenario_runs(const std::vector<std::string>& hidden, std::uint64_t seed = 3,
-                                                 bool /*holds*/ = true) {
+inline std::vector<model::RunData> scenario_runs(const std::vector<std::string>& hidden,
+                                                 std::uint64_t seed = 3, bool /*holds*/ = true) {
   const sim::GeneratorOptions g = generator_with(hidden);
   std::vector<model::RunData> runs;
-  for (const auto& spec : sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5}, {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2},
-                                           12.0, 1.0, seed)) {
+  for (const auto& spec :
+       sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5},
+                        {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2}, 12.0, 1.0, seed)) {
     sim::RunSpec standard = spec;
     sim::apply_standard_protocol(standard);
     runs.push_back(sim::generate_run(g, standard));
@@ -40,12 +41,14 @@ inline std::vector<model::RunData> scenario_runs(const std::vector<std::string>&
 // For tests of a mechanism (the explainer, user terms) on controlled data: the same 9 runs,
 // 12 mm deep without stops, identical eyes — the conditions those mechanisms are specified
 // for. Robustness to protocols and eyes is what scenario_runs and the blind zoo measure.
-inline std::vector<model::RunData> mechanism_runs(const std::vector<std::string>& hidden, std::uint64_t seed = 3) {
+inline std::vector<model::RunData> mechanism_runs(const std::vector<std::string>& hidden,
+                                                  std::uint64_t seed = 3) {
   sim::GeneratorOptions g = generator_with(hidden);
   g.physics.tissue.eye_variability = 0.0;
   std::vector<model::RunData> runs;
-  for (const auto& spec : sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5}, {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2},
-                                           12.0, 0.0, seed)) {
+  for (const auto& spec :
+       sim::design_runs({15, 16.5, 18}, {1.5, 2.5, 3.5},
+                        {0.5, 2.0, 3.5, 1.0, 3.0, 2.5, 1.5, 0.8, 3.2}, 12.0, 0.0, seed)) {
     runs.push_back(sim::generate_run(g, spec));
   }
   return runs;

@@ -69,7 +69,8 @@ TEST(Phases, AHoldBeginsWhereTheBladeArrivedNotWhereItsPositionJitterPeaks) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> jitter(-0.04, 0.0);
   for (std::size_t i = clean.hold_begin; i < clean.hold_end; ++i) {
-    run.x_mm[i] += run.t_s[i] - arrived_s > 1.2 && run.t_s[i] - arrived_s < 1.21 ? 0.03 : jitter(rng);
+    run.x_mm[i] +=
+        run.t_s[i] - arrived_s > 1.2 && run.t_s[i] - arrived_s < 1.21 ? 0.03 : jitter(rng);
   }
   const Segmentation s = detect_phases(run);
   ASSERT_GT(s.hold_end, s.hold_begin);
@@ -84,7 +85,8 @@ TEST(Phases, AreRobustToNoiseDriftAndIrregularSampling) {
   std::normal_distribution<double> noise(0.0, 0.006);
   std::uniform_real_distribution<double> keep(0.0, 1.0);
   RunData irregular = run;
-  irregular.t_s.clear(), irregular.x_mm.clear(), irregular.force_N.clear(), irregular.channels.clear();
+  irregular.t_s.clear(), irregular.x_mm.clear(), irregular.force_N.clear(),
+      irregular.channels.clear();
   for (std::size_t i = 0; i < run.size(); ++i) {
     if (keep(rng) > 0.35) continue;  // a third of the samples, at irregular times
     irregular.t_s.push_back(run.t_s[i]);
@@ -158,16 +160,19 @@ TEST(FitRows, SeeMainsPickUpAtEveryPhaseOnA16000SampleRun) {
     PreparedRun p = prepare_run(run, 800);
     ASSERT_EQ(p.analysed.size(), 16000U);
     ASSERT_EQ(p.fit_rows.size(), 800U);
-    EXPECT_NEAR(force_spread_at(run, p.fit_rows), 0.004 / std::sqrt(2.0), 0.0004) << hz << " Hz, fit rows";
+    EXPECT_NEAR(force_spread_at(run, p.fit_rows), 0.004 / std::sqrt(2.0), 0.0004)
+        << hz << " Hz, fit rows";
     for (std::size_t k = 0; k < p.fit_rows.size(); ++k) {  // still one row in each 20-sample stride
       EXPECT_EQ(p.fit_rows[k] / 20, k);
     }
     thin_analysed(p, 800);
     ASSERT_EQ(p.analysed.size(), 800U);
-    EXPECT_NEAR(force_spread_at(run, p.analysed), 0.004 / std::sqrt(2.0), 0.0004) << hz << " Hz, scored samples";
+    EXPECT_NEAR(force_spread_at(run, p.analysed), 0.004 / std::sqrt(2.0), 0.0004)
+        << hz << " Hz, scored samples";
   }
   // Reproducible, and a run's rows are its own: the same run gives the same rows.
-  EXPECT_EQ(prepare_run(mains_only_run(50.0), 800).fit_rows, prepare_run(mains_only_run(60.0), 800).fit_rows);
+  EXPECT_EQ(prepare_run(mains_only_run(50.0), 800).fit_rows,
+            prepare_run(mains_only_run(60.0), 800).fit_rows);
 }
 
 TEST(GridLine, IsFoundToAHundredthOfAHertzUnderNoiseAndACuttingForce) {
@@ -180,7 +185,8 @@ TEST(GridLine, IsFoundToAHundredthOfAHertzUnderNoiseAndACuttingForce) {
     for (std::size_t i = 0; i < 20000; ++i) {
       const double ts = static_cast<double>(i) * 1e-3;
       t.push_back(ts);
-      f.push_back(0.05 * ts + 0.02 * std::sin(0.7 * ts) + 0.002 * std::sin(2.0 * 3.14159265358979 * hz * ts + 1.0) + noise(rng));
+      f.push_back(0.05 * ts + 0.02 * std::sin(0.7 * ts) +
+                  0.002 * std::sin(2.0 * 3.14159265358979 * hz * ts + 1.0) + noise(rng));
     }
     const double nominal = hz < 55.0 ? 50.0 : 60.0;
     EXPECT_NEAR(grid_line_hz(t, f, 0, t.size(), nominal), hz, 0.005) << hz;
@@ -210,7 +216,8 @@ TEST(IopStiffness, ShorterToeFormMovesTheEndOfTheToeWithPressureAndKeepsTheSlope
   linear.adjust_model(run, &s, n);
   EXPECT_EQ(n.x1, before.x1);
   EXPECT_NEAR(n.a, before.a * 1.3, 1e-12);
-  EXPECT_NE(toe.evidence({&s, {&run}, {}}).find("toe region ends +0.100 mm earlier per mmHg"), std::string::npos);
+  EXPECT_NE(toe.evidence({&s, {&run}, {}}).find("toe region ends +0.100 mm earlier per mmHg"),
+            std::string::npos);
 }
 
 TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
@@ -225,7 +232,8 @@ TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
   std::vector<std::pair<double, double>> stops;  // depth [mm], longest time in hold [s]
   for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
     if (p.hold_s[i] <= 0.0) continue;
-    if (stops.empty() || std::abs(run.x_mm[i] - stops.back().first) > 0.3) stops.emplace_back(run.x_mm[i], 0.0);
+    if (stops.empty() || std::abs(run.x_mm[i] - stops.back().first) > 0.3)
+      stops.emplace_back(run.x_mm[i], 0.0);
     stops.back().second = std::max(stops.back().second, p.hold_s[i]);
   }
   ASSERT_EQ(stops.size(), 2U);
@@ -237,7 +245,8 @@ TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
   EXPECT_NEAR(p.hold_s[p.seg.hold_end - 1], 1.0, 0.1);
   // Moving, no time in hold.
   for (std::size_t i = 0; i < p.seg.insertion_end; ++i) {
-    if (std::abs(p.velocity_mm_s[i] - spec.velocity_mm_s) < 0.2 * spec.velocity_mm_s && run.x_mm[i] > 0.5) {
+    if (std::abs(p.velocity_mm_s[i] - spec.velocity_mm_s) < 0.2 * spec.velocity_mm_s &&
+        run.x_mm[i] > 0.5) {
       EXPECT_EQ(p.hold_s[i], 0.0) << "at " << run.x_mm[i] << " mm";
     }
   }
@@ -246,24 +255,30 @@ TEST(PreparedRuns, CountTimeInEveryStopOnTheWayInAsTimeInHold) {
 TEST(ShaftFriction, SlidingFormsVanishInEveryStopAndTheHeldFormKeepsItsLoadUntilTheRetraction) {
   sim::GeneratorOptions g;
   sim::RunSpec spec;
-  sim::apply_standard_protocol(spec);  // stops at 2 and 5.5 mm (the second past the puncture), hold at depth
+  sim::apply_standard_protocol(
+      spec);  // stops at 2 and 5.5 mm (the second past the puncture), hold at depth
   spec.eye_id = "friction";
   const RunData run = sim::generate_run(g, spec);
   const PreparedRun p = prepare_run(run);
   ASSERT_TRUE(p.seg.punctured);
-  const effects::ShaftFriction coulomb(effects::ShaftFriction::kCoulomb), held(effects::ShaftFriction::kHeldAtRest);
+  const effects::ShaftFriction coulomb(effects::ShaftFriction::kCoulomb),
+      held(effects::ShaftFriction::kHeldAtRest);
   const double mu = 0.01;  // [N/mm]
   int stopped = 0, holding = 0, retracting = 0, moving_in = 0;
   for (std::size_t i = 0; i < run.size(); ++i) {
-    const SampleView s{&p, i, run.x_mm[i], run.t_s[i], run.force_N[i], p.velocity_mm_s[i], p.hold_s[i], 1.5, p.seg.phase[i]};
-    const bool at_rest = s.phase == Phase::kHold || (s.hold_s > 0.0 && s.phase != Phase::kRetraction);
+    const SampleView s{
+        &p,          i,   run.x_mm[i],   run.t_s[i], run.force_N[i], p.velocity_mm_s[i],
+        p.hold_s[i], 1.5, p.seg.phase[i]};
+    const bool at_rest =
+        s.phase == Phase::kHold || (s.hold_s > 0.0 && s.phase != Phase::kRetraction);
     if (s.phase == Phase::kRetraction) {
       ++retracting;
       EXPECT_DOUBLE_EQ(coulomb.add(s, &mu, 0.0), -0.015);
       EXPECT_DOUBLE_EQ(held.add(s, &mu, 0.0), -0.015);
     } else if (at_rest && i != p.seg.insertion_end) {
       (s.phase == Phase::kHold ? holding : stopped) += 1;
-      EXPECT_EQ(coulomb.add(s, &mu, 0.0), 0.0) << "at " << s.x_mm << " mm, " << s.hold_s << " s into a stop";
+      EXPECT_EQ(coulomb.add(s, &mu, 0.0), 0.0)
+          << "at " << s.x_mm << " mm, " << s.hold_s << " s into a stop";
       EXPECT_DOUBLE_EQ(held.add(s, &mu, 0.0), 0.015);
     } else if (s.phase != Phase::kApproach && i != p.seg.insertion_end) {
       ++moving_in;
@@ -292,13 +307,16 @@ TEST(ShaftFriction, ThePreslidingGripKeepsItsLoadAtRestAndTurnsOverItsGripLength
   const double deepest_mm = *std::max_element(run.x_mm.begin(), run.x_mm.end());
   int at_rest = 0, half_turned = 0, turned = 0;
   for (std::size_t i = 0; i < run.size(); ++i) {
-    const SampleView s{&p, i, run.x_mm[i], run.t_s[i], run.force_N[i], p.velocity_mm_s[i], p.hold_s[i], 1.5, p.seg.phase[i]};
+    const SampleView s{
+        &p,          i,   run.x_mm[i],   run.t_s[i], run.force_N[i], p.velocity_mm_s[i],
+        p.hold_s[i], 1.5, p.seg.phase[i]};
     const double f = grip.add(s, params, 0.0);  // full friction: 0.01 N/mm x 1.5 mm
     if (s.phase != Phase::kRetraction && s.hold_s > 0.0) {
       ++at_rest;
       // The servo settles back some 20-30 um after a stop's overshoot: 10-15 % of the grip.
       EXPECT_GT(f, 0.6 * 0.015) << "at " << s.x_mm << " mm, " << s.hold_s << " s into a stop";
-    } else if (s.phase == Phase::kRetraction && deepest_mm - s.x_mm > 0.09 && deepest_mm - s.x_mm < 0.11) {
+    } else if (s.phase == Phase::kRetraction && deepest_mm - s.x_mm > 0.09 &&
+               deepest_mm - s.x_mm < 0.11) {
       ++half_turned;
       EXPECT_LT(std::abs(f), 0.3 * 0.015) << "0.1 mm out, half the grip";
     } else if (s.phase == Phase::kRetraction && deepest_mm - s.x_mm > 0.3) {
@@ -323,14 +341,16 @@ TEST(EyeConfounds, EyeVariationThatFollowsTheSpeedIsNamedAndChanceVariationIsNot
     prepared.back().velocity_cmd_mm_s = 0.5 + 0.45 * k;  // [mm/s]
     prepared.back().iop_mmHg = 15.0 + k % 3;
     prepared.back().iop_known = true;
-    following.push_back({0.0, 0.1 * (prepared.back().velocity_cmd_mm_s - 2.0) + 0.01 * chance_scale[k], 0.0});
+    following.push_back(
+        {0.0, 0.1 * (prepared.back().velocity_cmd_mm_s - 2.0) + 0.01 * chance_scale[k], 0.0});
     chance.push_back({0.0, chance_scale[k], 0.0});
   }
   std::vector<const PreparedRun*> runs;
   for (const PreparedRun& p : prepared) runs.push_back(&p);
   const std::vector<std::string> warned = eye_confound_warnings(runs, following, {});
   ASSERT_EQ(warned.size(), 1U);
-  EXPECT_NE(warned[0].find("cutting force scale follows the speed"), std::string::npos) << warned[0];
+  EXPECT_NE(warned[0].find("cutting force scale follows the speed"), std::string::npos)
+      << warned[0];
   EXPECT_TRUE(eye_confound_warnings(runs, chance, {}).empty());
 }
 
@@ -355,9 +375,11 @@ TEST(EyeConfounds, AFloorMadeOfEyeVariationWhileStructureStandsWithinEyesIsCalle
 // (eye variation 6.7 mN from 9 eyes; the true floor was 11.8 mN), within eyes 2.05x the noise.
 // The eye part is known to about +-25 % from 9 eyes, so up to 8.6 mN is plausible: not 1.5x that.
 TEST(EyeConfounds, AnExcessWithinTheFloorsOwnUncertaintyIsCalledThatAndMoreEyesNarrowIt) {
-  const double floor_N = 0.0069, noise_N = 0.0015, eyes_N = std::sqrt(floor_N * floor_N - noise_N * noise_N);
+  const double floor_N = 0.0069, noise_N = 0.0015,
+               eyes_N = std::sqrt(floor_N * floor_N - noise_N * noise_N);
   const FloorReading chance{1.54 * floor_N, 2.05 * noise_N, floor_N, noise_N, eyes_N};
-  EXPECT_NEAR(plausible_floor(chance, 9), std::sqrt(noise_N * noise_N + 1.25 * 1.25 * eyes_N * eyes_N), 1e-12);
+  EXPECT_NEAR(plausible_floor(chance, 9),
+              std::sqrt(noise_N * noise_N + 1.25 * 1.25 * eyes_N * eyes_N), 1e-12);
   const std::optional<std::string> warned = uncertain_floor_warning(chance, 9, 1.5, 2.5);
   ASSERT_TRUE(warned.has_value());
   EXPECT_NE(warned->find("1.54x a floor of 6.9 mN"), std::string::npos) << *warned;
@@ -384,7 +406,9 @@ TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFil
   for (const char* hours : {"1", "2", "4"}) {
     data.push_back(one_run({}));
     auto& meta = data.back().meta;
-    meta.erase(std::remove_if(meta.begin(), meta.end(), [](const auto& kv) { return kv.first == "post_mortem_h"; }), meta.end());
+    meta.erase(std::remove_if(meta.begin(), meta.end(),
+                              [](const auto& kv) { return kv.first == "post_mortem_h"; }),
+               meta.end());
     meta.emplace_back("post_mortem_h", hours);
   }
   std::vector<PreparedRun> prepared;
@@ -399,9 +423,9 @@ TEST(CovariateTerms, NeverExtrapolateBeyondTheValuesTheyWereFittedOnAndAModelFil
     const SampleView s{&prepared[run], 0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, Phase::kApproach};
     return term->scale(s, &c);
   };
-  EXPECT_GT(scale_at(1), scale_at(0));               // inside the range: the slope
-  EXPECT_DOUBLE_EQ(scale_at(2), scale_at(1));        // 4 h is predicted as 2 h, the edge
-  EXPECT_NEAR(scale_at(1), std::exp(c), 1e-9);       // mean 1.5 h, spread 0.5 h: z = 1 at 2 h
+  EXPECT_GT(scale_at(1), scale_at(0));          // inside the range: the slope
+  EXPECT_DOUBLE_EQ(scale_at(2), scale_at(1));   // 4 h is predicted as 2 h, the edge
+  EXPECT_NEAR(scale_at(1), std::exp(c), 1e-9);  // mean 1.5 h, spread 0.5 h: z = 1 at 2 h
   const std::string words = term->evidence(EvidenceInput{&c, fitted_on, {}});
   EXPECT_NE(words.find("held to 1..2"), std::string::npos) << words;
   const ModelFamily family(paper, catalogue, {"covariate:post_mortem_h"});
@@ -450,7 +474,8 @@ TEST(Diagnose, WithTwoAcceptedEffectsChoosesEachOnesFormOverABaselineOfTheOther)
 }
 
 TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
-  const RunData needle = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const RunData needle = read_run_csv(
+      testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const Segmentation s = detect_phases(needle);
   ASSERT_GT(s.hold_end, s.hold_begin) << "the liver data holds at 30 mm";
   EXPECT_GT(needle.t_s[s.hold_end - 1] - needle.t_s[s.hold_begin], 5.0);
@@ -459,17 +484,20 @@ TEST(NeedleData, ImportsSegmentsAndDiagnosesWithoutError) {
   EXPECT_FALSE(d.candidates.empty());
   EXPECT_GT(d.baseline_cv_rmse_N, 0.0);
   bool warned_about_iop = false;
-  for (const auto& w : d.warnings) warned_about_iop = warned_about_iop || w.find("iop_mmHg") != std::string::npos;
+  for (const auto& w : d.warnings)
+    warned_about_iop = warned_about_iop || w.find("iop_mmHg") != std::string::npos;
   EXPECT_TRUE(warned_about_iop);
   std::printf("needle: verdict %s, baseline %.4f N\n", d.verdict.c_str(), d.baseline_cv_rmse_N);
 }
 
 TEST(UserTerms, AnExpressionInTheModelFileIsFittedLikeACatalogueTerm) {
-  const std::vector<RunData> runs = {one_run({"shaft_friction"}), one_run({"shaft_friction"}, 0.0, 10.0)};
+  const std::vector<RunData> runs = {one_run({"shaft_friction"}),
+                                     one_run({"shaft_friction"}, 0.0, 10.0)};
   ForceModel model = ForceModel::paper_interpreted();
   model.user_terms.push_back({"drag", "mu * L * (v > 0 ? 1 : -1)", "all", {{"mu", 0.0}}});
   const FitReport f = fit_model(model, runs, {});
-  std::printf("user term: CV RMSE %.5f N (the paper's model without it: see before)\n", f.after_cv_rmse_N);
+  std::printf("user term: CV RMSE %.5f N (the paper's model without it: see before)\n",
+              f.after_cv_rmse_N);
   const FitReport without = fit_model(ForceModel::paper_interpreted(), runs, {});
   EXPECT_LT(f.after_cv_rmse_N, 0.5 * without.after_cv_rmse_N);
 }
@@ -487,7 +515,8 @@ TEST(UserTerms, ABadExpressionIsAnErrorNamingTheTermAndPosition) {
 }
 
 TEST(SavedModels, CarryTheirEffectsToTheComparison) {
-  const auto runs = std::vector<RunData>{one_run({"shaft_friction"}), one_run({"shaft_friction"}, 0.0, 11.0)};
+  const auto runs =
+      std::vector<RunData>{one_run({"shaft_friction"}), one_run({"shaft_friction"}, 0.0, 11.0)};
   const FitReport f = fit_model(ForceModel::paper_interpreted(), runs, {"shaft_friction"});
   testing::ScratchDir dir("saved-model");
   f.fitted.save(dir.file("fitted.toml"));
@@ -510,15 +539,22 @@ std::string run_rig(const std::string& args) {
 
 TEST(Cli, DiagnoseAndFitPrintTheDocumentedJson) {
   testing::ScratchDir dir("cli-json");
-  ASSERT_NE(run_rig("sim generate --out " + dir.file("runs") + " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11"), "");
-  const auto d = nlohmann::json::parse(run_rig("--format json model diagnose " + dir.file("runs") + " --only shaft_friction,sensor_drift"));
+  ASSERT_NE(run_rig("sim generate --out " + dir.file("runs") +
+                    " --effect shaft_friction --iops 15,18 --velocities 2 --depth 11"),
+            "");
+  const auto d = nlohmann::json::parse(run_rig("--format json model diagnose " + dir.file("runs") +
+                                               " --only shaft_friction,sensor_drift"));
   EXPECT_TRUE(d["baseline"].contains("cv_rmse_N"));
   EXPECT_TRUE(d["baseline"].contains("noise_floor_N"));
   ASSERT_EQ(d["candidates"].size(), 2U);
-  for (const char* key : {"effect", "cv_rmse_N", "gain_pct", "significant", "evidence"}) EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
-  EXPECT_LE(d["candidates"][0]["cv_rmse_N"].get<double>(), d["candidates"][1]["cv_rmse_N"].get<double>());
+  for (const char* key : {"effect", "cv_rmse_N", "gain_pct", "significant", "evidence"})
+    EXPECT_TRUE(d["candidates"][0].contains(key)) << key;
+  EXPECT_LE(d["candidates"][0]["cv_rmse_N"].get<double>(),
+            d["candidates"][1]["cv_rmse_N"].get<double>());
   EXPECT_EQ(d["verdict"], "shaft_friction");
-  const auto f = nlohmann::json::parse(run_rig("--format json model fit " + dir.file("runs") + " --add shaft_friction --save " + dir.file("m.toml")));
+  const auto f =
+      nlohmann::json::parse(run_rig("--format json model fit " + dir.file("runs") +
+                                    " --add shaft_friction --save " + dir.file("m.toml")));
   EXPECT_EQ(f["effects"], nlohmann::json::array({"shaft_friction"}));
   EXPECT_LT(f["after"]["cv_rmse_N"].get<double>(), f["before"]["cv_rmse_N"].get<double>());
   EXPECT_TRUE(f["params"]["shaft_friction"].contains("mu"));
@@ -526,12 +562,21 @@ TEST(Cli, DiagnoseAndFitPrintTheDocumentedJson) {
 }
 
 TEST(Cli, LintFailsOnThePrintedModelAndNamesEachJump) {
-  const auto j = nlohmann::json::parse(run_rig("--format json model lint " + testing::source("model/params/paper-printed.toml")));
+  const auto j = nlohmann::json::parse(
+      run_rig("--format json model lint " + testing::source("model/params/paper-printed.toml")));
   int jumps = 0;
   for (const auto& f : j["findings"]) jumps += f.contains("jump_N") ? 1 : 0;
   EXPECT_EQ(jumps, 16);  // 4 joints x 4 IOPs
-  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " + testing::source("model/params/paper-printed.toml") + " > /dev/null").c_str()) >> 8, 1);
-  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " + testing::source("model/params/paper-interpreted.toml") + " > /dev/null").c_str()) >> 8, 0);
+  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " +
+                         testing::source("model/params/paper-printed.toml") + " > /dev/null")
+                            .c_str()) >>
+                8,
+            1);
+  EXPECT_EQ(std::system((testing::bin("rig") + " model lint " +
+                         testing::source("model/params/paper-interpreted.toml") + " > /dev/null")
+                            .c_str()) >>
+                8,
+            0);
 }
 
 }  // namespace

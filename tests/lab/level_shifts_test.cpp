@@ -31,7 +31,9 @@ RunData synthetic_run(double duration_s, const std::function<double(double)>& po
 }
 
 // A logistic step of `size` [N] at `at` [s], 5 ms wide (the zoo's sensor step).
-double step(double t, double at, double size) { return size / (1.0 + std::exp(-(t - at) / 0.005)); }
+double step(double t, double at, double size) {
+  return size / (1.0 + std::exp(-(t - at) / 0.005));
+}
 
 // At the end of the cut a soft mount snaps the tip through: the unloading force falls to
 // 64 mN, then to nothing at once, and stays there while the carriage goes on (draw 220035:
@@ -70,7 +72,9 @@ TEST(OffsetSteps, AJumpUpThatChangesTheStiffnessIsTheTissuesNotASensorStep) {
 // A stop on the way in, then the carriage sets off again and the load comes back in a jump
 // within half a millimetre (a soft mount taken up: draw 220035, run 8, +38 mN).
 TEST(OffsetSteps, AJumpJustAfterTheCarriageSetsOffIsTheTissueReloadingNotASensorStep) {
-  const auto x = [](double t) { return t < 4.0 ? -2.0 + 1.875 * t : (t < 5.0 ? 5.5 : 5.5 + 3.6 * (t - 5.0)); };
+  const auto x = [](double t) {
+    return t < 4.0 ? -2.0 + 1.875 * t : (t < 5.0 ? 5.5 : 5.5 + 3.6 * (t - 5.0));
+  };
   const RunData run = synthetic_run(6.5, x, [](double t, double xm) {
     const double base = std::max(0.0, 0.035 * std::min(xm, 5.5));  // 0.19 N at the stop
     return base + step(t, 5.12, 0.038);  // 0.43 mm after the carriage set off
@@ -94,7 +98,8 @@ TEST(OffsetSteps, ASlowPunctureOnASoftMountIsNoSensorStep) {
 // its end (the sums were one entry short, and a line ending there read past them).
 TEST(OffsetSteps, ARunEndingAtRestHasNoStepAtItsEnd) {
   const auto x = [](double t) { return std::min(-2.0 + 2.0 * t, 12.0); };
-  const RunData run = synthetic_run(9.0, x, [](double, double xm) { return std::max(0.0, 0.02 * xm); });
+  const RunData run =
+      synthetic_run(9.0, x, [](double, double xm) { return std::max(0.0, 0.02 * xm); });
   EXPECT_TRUE(find_offset_steps(run, kNoise_N).empty());
 }
 
@@ -103,9 +108,12 @@ TEST(OffsetSteps, SensorStepsWhileTheBladeAdvancesAreStillFoundUpAndDown) {
   struct Case {
     double speed_mm_s, at_s, size_N;
   };
-  for (const Case c : {Case{1.5, 4.0, +0.030}, Case{1.5, 4.0, -0.030}, Case{0.63, 8.0, -0.040}, Case{0.63, 8.0, +0.025}}) {
+  for (const Case c : {Case{1.5, 4.0, +0.030}, Case{1.5, 4.0, -0.030}, Case{0.63, 8.0, -0.040},
+                       Case{0.63, 8.0, +0.025}}) {
     const auto x = [&](double t) { return -2.0 + c.speed_mm_s * t; };
-    const RunData run = synthetic_run(12.0, x, [&](double t, double xm) { return std::max(0.0, 0.02 * xm) + step(t, c.at_s, c.size_N); });
+    const RunData run = synthetic_run(12.0, x, [&](double t, double xm) {
+      return std::max(0.0, 0.02 * xm) + step(t, c.at_s, c.size_N);
+    });
     const std::vector<OffsetStep> steps = find_offset_steps(run, kNoise_N);
     ASSERT_EQ(steps.size(), 1U) << c.speed_mm_s << " mm/s, " << c.size_N << " N";
     EXPECT_NEAR(steps[0].t_s, c.at_s, 0.01);

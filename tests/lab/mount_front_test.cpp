@@ -52,9 +52,11 @@ TEST(MountFront, ACompliantMountsTipStaysAtItsFrontUntilTheCarriageHasTakenBackI
   params.shared[0] = {c};
   std::vector<std::size_t> rows;
   for (std::size_t i = 0; i < run.size(); ++i) {
-    const double unloaded_mm = c * (p.front_force_N[i] - run.force_N[i]);  // the mount's give taken back
+    const double unloaded_mm =
+        c * (p.front_force_N[i] - run.force_N[i]);  // the mount's give taken back
     const double backed_mm = p.front_mm[i] - run.x_mm[i];
-    if (p.seg.phase[i] == Phase::kRetraction && backed_mm > 0.02 && backed_mm < unloaded_mm) rows.push_back(i);
+    if (p.seg.phase[i] == Phase::kRetraction && backed_mm > 0.02 && backed_mm < unloaded_mm)
+      rows.push_back(i);
   }
   ASSERT_GT(rows.size(), 10U);
   std::vector<double> predicted;

@@ -40,12 +40,14 @@ TEST(PackedInputs, HoldEachSamplesOwnValuesAndTheFitRowsInOrder) {
     ASSERT_EQ(in.t_s, run.t_s[i]) << i;
     ASSERT_EQ(in.force_N, run.force_N[i]) << i;
     ASSERT_EQ(in.velocity_mm_s, p.velocity_mm_s[i]) << i;
-    ASSERT_EQ(in.hold_s, p.hold_s[i]) << i;  // stops on the way in included (set after derive_pauses)
+    ASSERT_EQ(in.hold_s, p.hold_s[i])
+        << i;  // stops on the way in included (set after derive_pauses)
     ASSERT_EQ(in.front_mm, p.front_mm[i]) << i;
     ASSERT_EQ(in.phase, p.seg.phase[i]) << i;
   }
   ASSERT_EQ(p.fit_inputs.size(), p.fit_rows.size());
-  for (std::size_t n = 0; n < p.fit_rows.size(); ++n) ASSERT_EQ(p.fit_inputs[n].t_s, run.t_s[p.fit_rows[n]]) << n;
+  for (std::size_t n = 0; n < p.fit_rows.size(); ++n)
+    ASSERT_EQ(p.fit_inputs[n].t_s, run.t_s[p.fit_rows[n]]) << n;
   // The grid's phase is tracked from first contact on.
   EXPECT_TRUE(std::isfinite(p.inputs[p.analysed.front()].grid_cycles[0]));
   EXPECT_TRUE(std::isfinite(p.inputs.back().grid_cycles[1]));
@@ -55,13 +57,15 @@ TEST(PackedInputs, HoldEachSamplesOwnValuesAndTheFitRowsInOrder) {
 }
 
 TEST(PackedInputs, GiveTheSamePredictionAsAnyOtherListOfTheSameRows) {
-  std::vector<RunData> data = {standard_run({"mains_interference"}, 5), standard_run({"spatial_ripple"}, 6)};
+  std::vector<RunData> data = {standard_run({"mains_interference"}, 5),
+                               standard_run({"spatial_ripple"}, 6)};
   std::vector<PreparedRun> prepared;
   for (const RunData& r : data) prepared.push_back(prepare_run(r, 300));
   std::vector<const PreparedRun*> runs = {&prepared[0], &prepared[1]};
   const ForceModel model = ForceModel::paper_interpreted();
   const EffectCatalogue catalogue(model, runs);
-  const ModelFamily family(model, catalogue, {"mains_interference", "spatial_ripple", "sensor_drift"});
+  const ModelFamily family(model, catalogue,
+                           {"mains_interference", "spatial_ripple", "sensor_drift"});
   const Predictor& predictor = family.predictor();
   const ModelParams p = family.start(runs);
   for (PreparedRun& run : prepared) {
@@ -94,7 +98,8 @@ TEST(ForceModel, BaselineWithTheRunsDepthsLookedUpOnceIsTheBaselineAtThatIop) {
     for (double front = -0.5; front <= 12.0; front += 0.37) {
       for (double x = -1.0; x <= front + 0.5; x += 0.29) {
         // Held or withdrawn: the force reached at the front, released over w_release.
-        const double release = std::max(0.0, 1.0 - (front - x) / std::max(m.params.w_release, 1e-4));
+        const double release =
+            std::max(0.0, 1.0 - (front - x) / std::max(m.params.w_release, 1e-4));
         const double expected = x >= front ? m.baseline(x, iop) : m.baseline(front, iop) * release;
         ASSERT_DOUBLE_EQ(m.baseline(x, front, d), expected) << iop << " " << front << " " << x;
         ASSERT_DOUBLE_EQ(m.baseline(x, front, iop), expected);

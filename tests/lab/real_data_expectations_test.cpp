@@ -78,7 +78,8 @@ TEST(NeedleDataBiomechanics, AParameterTheRunsCannotInformIsCalledThatNotAFailed
   const CandidateResult* relax = needle_relaxation();
   ASSERT_NE(relax, nullptr);
   EXPECT_EQ(relax->evidence.find("did not leave its start"), std::string::npos) << relax->evidence;
-  EXPECT_NE(relax->evidence.find("reload has nothing to act on in these runs (no run stops on the way in)"),
+  EXPECT_NE(relax->evidence.find(
+                "reload has nothing to act on in these runs (no run stops on the way in)"),
             std::string::npos)
       << relax->evidence;
 }

@@ -122,7 +122,8 @@ TEST_F(MeatDataBiomechanics, ARippleThatDoesNotRepeatOverTheRampsIsNotTheBestPar
   const CandidateResult* ripple = candidate(d(), "spatial_ripple");
   ASSERT_NE(ripple, nullptr);
   EXPECT_FALSE(ripple->applicable);
-  EXPECT_NE(ripple->not_applicable.find("repeats only"), std::string::npos) << ripple->not_applicable;
+  EXPECT_NE(ripple->not_applicable.find("repeats only"), std::string::npos)
+      << ripple->not_applicable;
 }
 
 }  // namespace

@@ -66,8 +66,9 @@ Bounds bounds_of(const std::vector<model::ParamSpec>& specs, int count) {
 
 // RMS of (target - law(p)) over the grid relative to the RMS of the target's change from its
 // value where the effect is nil (`nil`: 1 for factors, 0 for shifts and fractions).
-double misfit(const std::vector<double>& xs, const std::function<double(double)>& target, double nil,
-              const std::function<double(double, const double*)>& law, const double* p) {
+double misfit(const std::vector<double>& xs, const std::function<double(double)>& target,
+              double nil, const std::function<double(double, const double*)>& law,
+              const double* p) {
   double err = 0.0, size = 0.0;
   for (const double x : xs) {
     const double t = target(x);
@@ -95,7 +96,8 @@ struct Coordinates {
 };
 
 // Nelder-Mead from u0 (simplex edges a tenth of each range) [the misfit it reached].
-double nelder_mead(const std::function<double(const std::vector<double>&)>& f, const Coordinates& c, std::vector<double> u0) {
+double nelder_mead(const std::function<double(const std::vector<double>&)>& f, const Coordinates& c,
+                   std::vector<double> u0) {
   const std::size_t n = u0.size();
   std::vector<std::vector<double>> x(n + 1, u0);
   for (std::size_t k = 0; k < n; ++k) x[k + 1][k] += 0.1 * (c.hi(k) - c.lo(k));
@@ -104,7 +106,8 @@ double nelder_mead(const std::function<double(const std::vector<double>&)>& f, c
   for (int iteration = 0; iteration < 4000; ++iteration) {
     std::vector<std::size_t> order(n + 1);
     for (std::size_t i = 0; i <= n; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return fx[a] < fx[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return fx[a] < fx[b]; });
     const std::size_t best = order.front(), worst = order.back(), second = order[n - 1];
     if (fx[worst] - fx[best] < 1e-12) break;
     std::vector<double> centre(n, 0.0);
@@ -122,7 +125,10 @@ double nelder_mead(const std::function<double(const std::vector<double>&)>& f, c
     if (fr < fx[best]) {
       const std::vector<double> expanded = along(-2.0);
       const double fe = f(expanded);
-      if (fe < fr) x[worst] = expanded, fx[worst] = fe; else x[worst] = reflected, fx[worst] = fr;
+      if (fe < fr)
+        x[worst] = expanded, fx[worst] = fe;
+      else
+        x[worst] = reflected, fx[worst] = fr;
     } else if (fr < fx[second]) {
       x[worst] = reflected, fx[worst] = fr;
     } else {
@@ -143,38 +149,48 @@ double nelder_mead(const std::function<double(const std::vector<double>&)>& f, c
 }
 
 // The least misfit within the bounds: 4000 random starts, Nelder-Mead from the best twenty.
-double best_misfit(const std::vector<double>& xs, const std::function<double(double)>& target, double nil,
-                   const std::function<double(double, const double*)>& law, const Bounds& b) {
+double best_misfit(const std::vector<double>& xs, const std::function<double(double)>& target,
+                   double nil, const std::function<double(double, const double*)>& law,
+                   const Bounds& b) {
   const Coordinates c{&b};
-  const auto f = [&](const std::vector<double>& u) { return misfit(xs, target, nil, law, c.params(u).data()); };
+  const auto f = [&](const std::vector<double>& u) {
+    return misfit(xs, target, nil, law, c.params(u).data());
+  };
   std::mt19937 rng(7);
   std::vector<std::pair<double, std::vector<double>>> starts;
   for (int start = 0; start < 4000; ++start) {
     std::vector<double> u(b.lower.size());
-    for (std::size_t k = 0; k < u.size(); ++k) u[k] = std::uniform_real_distribution<double>(c.lo(k), c.hi(k))(rng);
+    for (std::size_t k = 0; k < u.size(); ++k)
+      u[k] = std::uniform_real_distribution<double>(c.lo(k), c.hi(k))(rng);
     starts.emplace_back(f(u), u);
   }
-  std::partial_sort(starts.begin(), starts.begin() + 20, starts.end(), [](const auto& a, const auto& z) { return a.first < z.first; });
+  std::partial_sort(starts.begin(), starts.begin() + 20, starts.end(),
+                    [](const auto& a, const auto& z) { return a.first < z.first; });
   double best = INFINITY;
-  for (int k = 0; k < 20; ++k) best = std::min(best, nelder_mead(f, c, starts[static_cast<std::size_t>(k)].second));
+  for (int k = 0; k < 20; ++k)
+    best = std::min(best, nelder_mead(f, c, starts[static_cast<std::size_t>(k)].second));
   return best;
 }
 
 // Every form of the lab's family (made by `make`), its first parameters (all but the last
 // `not_in_law`: where a law acts, not its shape) searched, against the simulated law.
 template <typename Term>
-void expect_no_lab_form_fits(const std::string& family, const std::string& sim_form, const std::vector<double>& xs,
-                             const std::function<double(double)>& target, double nil,
-                             const std::function<double(const Term&, double, const double*)>& lab_value,
-                             const std::function<Term(int)>& make, int not_in_law = 0) {
+void expect_no_lab_form_fits(
+    const std::string& family, const std::string& sim_form, const std::vector<double>& xs,
+    const std::function<double(double)>& target, double nil,
+    const std::function<double(const Term&, double, const double*)>& lab_value,
+    const std::function<Term(int)>& make, int not_in_law = 0) {
   const Term probe = make(0);
   for (int form = 0; form < static_cast<int>(probe.forms().size()); ++form) {
     const Term term = make(form);
     const auto specs = term.shared_params();
     const int used = static_cast<int>(specs.size()) - not_in_law;
     if (used <= 0) continue;
-    const double left = best_misfit(xs, target, nil, [&](double x, const double* p) { return lab_value(term, x, p); }, bounds_of(specs, used));
-    std::printf("%s:%-14s against the lab's %-24s %.4f of the effect left over\n", family.c_str(), sim_form.c_str(), term.form().c_str(), left);
+    const double left = best_misfit(
+        xs, target, nil, [&](double x, const double* p) { return lab_value(term, x, p); },
+        bounds_of(specs, used));
+    std::printf("%s:%-14s against the lab's %-24s %.4f of the effect left over\n", family.c_str(),
+                sim_form.c_str(), term.form().c_str(), left);
     EXPECT_GT(left, kLeftOver) << family << ":" << sim_form << " is the lab's " << term.form();
   }
 }
@@ -188,11 +204,14 @@ TEST(SimulatedForms, NoRateLawIsOneOfTheLabsRateLaws) {
   for (const std::string& form : effect_forms(EffectKind::kRateDependence)) {
     const EffectSlot s = slot(EffectKind::kRateDependence, form);
     expect_no_lab_form_fits<RateDependence>(
-        "rate_dependence", form, grid(0.5, 4.0, 60), [&](double v) { return forms::rate_factor(s, v, true); }, 1.0,
-        [](const RateDependence& t, double v, const double* p) { return t.factor(v, p); }, [](int f) { return RateDependence(2.0, f); },
+        "rate_dependence", form, grid(0.5, 4.0, 60),
+        [&](double v) { return forms::rate_factor(s, v, true); }, 1.0,
+        [](const RateDependence& t, double v, const double* p) { return t.factor(v, p); },
+        [](int f) { return RateDependence(2.0, f); },
         2);  // the last two say where it acts (at rest, before the puncture)
   }
-  EXPECT_EQ(forms::rate_factor(slot(EffectKind::kRateDependence, "carreau"), 0.5, false), 1.0) << "Carreau acts on the cut only";
+  EXPECT_EQ(forms::rate_factor(slot(EffectKind::kRateDependence, "carreau"), 0.5, false), 1.0)
+      << "Carreau acts on the cut only";
 }
 
 TEST(SimulatedForms, NoPressureLawIsOneOfTheLabsPressureLaws) {
@@ -200,12 +219,15 @@ TEST(SimulatedForms, NoPressureLawIsOneOfTheLabsPressureLaws) {
     if (form == "prestress") continue;  // moves the toe as well: below
     const EffectSlot s = slot(EffectKind::kIopStiffness, form);
     expect_no_lab_form_fits<IopStiffness>(
-        "iop_stiffness", form, grid(-1.0, 4.0, 60), [&](double dp) { return forms::iop_change(s, 15.0 + dp).stiffness_factor; }, 1.0,
-        [](const IopStiffness& t, double dp, const double* p) { return t.factor(dp, p); }, [](int f) { return IopStiffness(f); });
+        "iop_stiffness", form, grid(-1.0, 4.0, 60),
+        [&](double dp) { return forms::iop_change(s, 15.0 + dp).stiffness_factor; }, 1.0,
+        [](const IopStiffness& t, double dp, const double* p) { return t.factor(dp, p); },
+        [](int f) { return IopStiffness(f); });
   }
   // Pre-stress shortens the toe (the lab's "shorter toe" form, alone) and steepens the slopes
   // (the lab's other forms, alone): no one form of the lab does both.
-  const forms::IopChange prestress = forms::iop_change(slot(EffectKind::kIopStiffness, "prestress"), 17.0);
+  const forms::IopChange prestress =
+      forms::iop_change(slot(EffectKind::kIopStiffness, "prestress"), 17.0);
   EXPECT_LT(prestress.toe_factor, 0.9);
   EXPECT_GT(prestress.stiffness_factor, 1.02);
 }
@@ -214,8 +236,10 @@ TEST(SimulatedForms, NoRelaxationIsOneOfTheLabsRelaxations) {
   for (const std::string& form : effect_forms(EffectKind::kStressRelaxation)) {
     const EffectSlot s = slot(EffectKind::kStressRelaxation, form);
     expect_no_lab_form_fits<StressRelaxation>(
-        "stress_relaxation", form, grid(0.0, 3.0, 150), [&](double t) { return forms::relaxed_fraction(s, t); }, 0.0,
-        [](const StressRelaxation& r, double t, const double* p) { return r.decayed(t, p); }, [](int f) { return StressRelaxation(f); },
+        "stress_relaxation", form, grid(0.0, 3.0, 150),
+        [&](double t) { return forms::relaxed_fraction(s, t); }, 0.0,
+        [](const StressRelaxation& r, double t, const double* p) { return r.decayed(t, p); },
+        [](int f) { return StressRelaxation(f); },
         1);  // the last, `reload`, is how the tissue reloads after a stop
   }
 }
@@ -244,14 +268,17 @@ TEST(SimulatedForms, NoMountIsOneOfTheLabsMounts) {
   for (const std::string& form : effect_forms(EffectKind::kRigCompliance)) {
     const EffectSlot s = slot(EffectKind::kRigCompliance, form);
     expect_no_lab_form_fits<RigCompliance>(
-        "rig_compliance", form, grid(0.0, 0.3, 60), [&](double f) { return forms::compliance_lag_mm(s, f); }, 0.0,
-        [](const RigCompliance& m, double f, const double* p) { return m.lag(f, p); }, [](int f) { return RigCompliance(f); });
+        "rig_compliance", form, grid(0.0, 0.3, 60),
+        [&](double f) { return forms::compliance_lag_mm(s, f); }, 0.0,
+        [](const RigCompliance& m, double f, const double* p) { return m.lag(f, p); },
+        [](int f) { return RigCompliance(f); });
   }
 }
 
 // The lab's friction laws in steady sliding, per inserted length [N/mm] against the speed v
 // (shaft_friction.hpp): Coulomb-like forms mu; viscous eta v; both mu + eta v; breakaway
-// mu + mu_s exp(-v / v_s). (The friction term's add() needs a prepared run; its laws in v are these.)
+// mu + mu_s exp(-v / v_s). (The friction term's add() needs a prepared run; its laws in v are
+// these.)
 TEST(SimulatedForms, NoFrictionLawInTheSpeedIsOneOfTheLabsFrictionLaws) {
   struct LabLaw {
     std::string name;
@@ -261,14 +288,21 @@ TEST(SimulatedForms, NoFrictionLawInTheSpeedIsOneOfTheLabsFrictionLaws) {
   const std::vector<LabLaw> lab = {
       {"coulomb", {{-0.1}, {0.1}}, [](double, const double* p) { return p[0]; }},
       {"viscous", {{-0.05}, {0.05}}, [](double v, const double* p) { return p[0] * v; }},
-      {"coulomb + viscous", {{-0.1, -0.05}, {0.1, 0.05}}, [](double v, const double* p) { return p[0] + p[1] * v; }},
-      {"static breakaway", {{-0.1, -0.1, 0.01}, {0.1, 0.2, 5.0}}, [](double v, const double* p) { return p[0] + p[1] * std::exp(-v / p[2]); }},
+      {"coulomb + viscous",
+       {{-0.1, -0.05}, {0.1, 0.05}},
+       [](double v, const double* p) { return p[0] + p[1] * v; }},
+      {"static breakaway",
+       {{-0.1, -0.1, 0.01}, {0.1, 0.2, 5.0}},
+       [](double v, const double* p) { return p[0] + p[1] * std::exp(-v / p[2]); }},
   };
   for (const std::string form : {"coulomb_viscous", "stribeck"}) {
     const EffectSlot s = slot(EffectKind::kShaftFriction, form);
     for (const LabLaw& l : lab) {
-      const double left = best_misfit(grid(0.5, 4.0, 60), [&](double v) { return forms::friction_per_mm(s, v); }, 0.0, l.law, l.bounds);
-      std::printf("shaft_friction:%-16s against the lab's %-18s %.4f of the friction left over\n", form.c_str(), l.name.c_str(), left);
+      const double left = best_misfit(
+          grid(0.5, 4.0, 60), [&](double v) { return forms::friction_per_mm(s, v); }, 0.0, l.law,
+          l.bounds);
+      std::printf("shaft_friction:%-16s against the lab's %-18s %.4f of the friction left over\n",
+                  form.c_str(), l.name.c_str(), left);
       EXPECT_GT(left, kLeftOver) << form << " is the lab's " << l.name;
     }
   }
@@ -278,8 +312,9 @@ TEST(SimulatedForms, NoFrictionLawInTheSpeedIsOneOfTheLabsFrictionLaws) {
 TEST(SimulatedForms, TheSensorsWarmUpIsNotTheLabsFirstOrderThermalDrift) {
   const EffectSlot s = slot(EffectKind::kSensorDrift, "warmup");
   const Bounds b{{-0.1, -0.1, 0.1}, {0.1, 0.1, 60.0}};
-  const double left = best_misfit(grid(0.0, 30.0, 300), [&](double t) { return forms::drift_N(s, t, 0.0); }, 0.0,
-                                  [](double t, const double* p) { return p[0] + p[1] * -std::expm1(-t / p[2]); }, b);
+  const double left = best_misfit(
+      grid(0.0, 30.0, 300), [&](double t) { return forms::drift_N(s, t, 0.0); }, 0.0,
+      [](double t, const double* p) { return p[0] + p[1] * -std::expm1(-t / p[2]); }, b);
   std::printf("sensor_drift:warmup against the lab's thermal %.4f of the drift left over\n", left);
   EXPECT_GT(left, kLeftOver);
 }
@@ -316,9 +351,11 @@ TEST(SimulatedForms, TheSensorsStepRisesOverMillisecondsUnlikeTheLabsIdealStep) 
 // The lab's speed-following tearing: a period P (v / 2 mm/s)^alpha [mm] (stick_slip.hpp).
 TEST(SimulatedForms, TheTearsLengthInTheSpeedIsNotTheLabsPowerLaw) {
   const Bounds b{{0.05, -2.0}, {3.0, 2.0}};
-  const double left = best_misfit(grid(0.5, 4.0, 60), [](double v) { return 1.0 / forms::tearing_cycles_per_mm(v); }, 0.0,
-                                  [](double v, const double* p) { return p[0] * std::pow(v / 2.0, p[1]); }, b);
-  std::printf("stick_slip:velocity_weakening period against the lab's power law %.4f left over\n", left);
+  const double left = best_misfit(
+      grid(0.5, 4.0, 60), [](double v) { return 1.0 / forms::tearing_cycles_per_mm(v); }, 0.0,
+      [](double v, const double* p) { return p[0] * std::pow(v / 2.0, p[1]); }, b);
+  std::printf("stick_slip:velocity_weakening period against the lab's power law %.4f left over\n",
+              left);
   EXPECT_GT(left, kLeftOver);
 }
 
@@ -333,7 +370,8 @@ TEST(SimulatedForms, AperiodicTearsOfTheirOwnLengthsAreNotTheLabsSharedRamp) {
   std::vector<double> d, truth;  // travel since the release [mm], the tear's force [units of a]
   for (int tear = 0; tear < 300; ++tear) {
     const double length = 0.35 * stretch(rng);
-    for (double x = 0.0; x < length; x += 0.002) d.push_back(x), truth.push_back(2.0 * x / length - 1.0);
+    for (double x = 0.0; x < length; x += 0.002)
+      d.push_back(x), truth.push_back(2.0 * x / length - 1.0);
   }
   double total = 0.0;
   for (const double f : truth) total += f * f;
@@ -365,7 +403,8 @@ TEST(SimulatedForms, TearingThatGrowsAlongTheCutIsNotTheLabsExponentialPeriod) {
   const EffectSlot growing = slot(EffectKind::kStickSlip, "growing");
   const std::vector<double> depths = grid(0.0, 5.0, 1000);  // past the puncture [mm]
   Eigen::VectorXd truth(static_cast<Eigen::Index>(depths.size()));
-  for (std::size_t i = 0; i < depths.size(); ++i) truth(static_cast<Eigen::Index>(i)) = forms::tearing_pattern(growing, depths[i], 0.0);
+  for (std::size_t i = 0; i < depths.size(); ++i)
+    truth(static_cast<Eigen::Index>(i)) = forms::tearing_pattern(growing, depths[i], 0.0);
   const auto left_over = [&](const double* p) {
     Eigen::MatrixXd rows(truth.size(), 6);
     for (std::size_t i = 0; i < depths.size(); ++i) {
@@ -381,14 +420,17 @@ TEST(SimulatedForms, TearingThatGrowsAlongTheCutIsNotTheLabsExponentialPeriod) {
   const Bounds b = bounds_of(lab.shared_params(), 2);
   const Coordinates c{&b};
   const auto f = [&](const std::vector<double>& u) { return left_over(c.params(u).data()); };
-  std::vector<std::pair<double, std::vector<double>>> starts;  // the lab's own start grid, then Nelder-Mead
+  std::vector<std::pair<double, std::vector<double>>>
+      starts;  // the lab's own start grid, then Nelder-Mead
   for (const auto& start : lab.starts()) {
     const std::vector<double> u = {std::log(start[0]), start[1]};
     starts.emplace_back(f(u), u);
   }
-  std::partial_sort(starts.begin(), starts.begin() + 10, starts.end(), [](const auto& a, const auto& z) { return a.first < z.first; });
+  std::partial_sort(starts.begin(), starts.begin() + 10, starts.end(),
+                    [](const auto& a, const auto& z) { return a.first < z.first; });
   double best = INFINITY;
-  for (int k = 0; k < 10; ++k) best = std::min(best, nelder_mead(f, c, starts[static_cast<std::size_t>(k)].second));
+  for (int k = 0; k < 10; ++k)
+    best = std::min(best, nelder_mead(f, c, starts[static_cast<std::size_t>(k)].second));
   std::printf("stick_slip:growing against the lab's exponential period %.4f left over\n", best);
   EXPECT_GT(best, kLeftOver);
 }

@@ -33,7 +33,9 @@ const std::vector<RunData>& dragged_runs() {
   return runs;
 }
 
-UserTerm drag_back() { return {"drag_back", "k*x^2", "retraction", {{"k", 0.0}}}; }
+UserTerm drag_back() {
+  return {"drag_back", "k*x^2", "retraction", {{"k", 0.0}}};
+}
 
 int count(const std::vector<std::string>& names, const std::string& name) {
   return static_cast<int>(std::count(names.begin(), names.end(), name));
@@ -92,7 +94,8 @@ TEST(UserTerms, FitNeverAddsATermTwice) {
   EXPECT_EQ(f.fitted.user_terms.size(), 1U);
   bool said_already = false, said_twice = false;
   for (const auto& w : f.warnings) {
-    said_already = said_already || w.find("user:drag_back is already in the model") != std::string::npos;
+    said_already =
+        said_already || w.find("user:drag_back is already in the model") != std::string::npos;
     said_twice = said_twice || w.find("sensor_drift was asked for twice") != std::string::npos;
   }
   EXPECT_TRUE(said_already);
@@ -103,7 +106,8 @@ TEST(UserTerms, ReadRunCovariatesAndPhaseIndicators) {
   RunData data = dragged_runs()[0];
   data.set("blade_uses", "3");
   const PreparedRun run = prepare_run(data);
-  const effects::UserExpression term({"wear", "k*blade_uses*x*is_retraction + is_hold", "all", {{"k", 0.5}}});
+  const effects::UserExpression term(
+      {"wear", "k*blade_uses*x*is_retraction + is_hold", "all", {{"k", 0.5}}});
   EXPECT_EQ(term.covariates(), std::vector<std::string>{"blade_uses"});
   SampleView s{&run, 10, 2.0, 1.0, 0.0, -1.0, 0.0, 0.0, Phase::kRetraction};
   const double k = 0.5;
@@ -138,37 +142,45 @@ TEST(UserTerms, AParameterNamedLikeAVariableIsAnError) {
 
 TEST(TermFiles, RoundTripAndBadFilesNameTheFileLineAndKey) {
   testing::ScratchDir dir("term-files");
-  save_user_terms(dir.file("t.toml"), {drag_back(), {"wear", "c1*(blade_uses-4)*x", "insertion", {{"c1", 2e-4}}}});
+  save_user_terms(dir.file("t.toml"),
+                  {drag_back(), {"wear", "c1*(blade_uses-4)*x", "insertion", {{"c1", 2e-4}}}});
   const std::vector<UserTerm> back = load_user_terms(dir.file("t.toml"));
   ASSERT_EQ(back.size(), 2U);
   EXPECT_EQ(back[1].name, "wear");
   EXPECT_EQ(back[1].expression, "c1*(blade_uses-4)*x");
   EXPECT_DOUBLE_EQ(back[1].params.at("c1"), 2e-4);
-  std::ofstream(dir.file("bad.toml")) << "[terms.a]\nexpression = \"k*x\"\n\n[model]\nname = \"m\"\n";
+  std::ofstream(dir.file("bad.toml"))
+      << "[terms.a]\nexpression = \"k*x\"\n\n[model]\nname = \"m\"\n";
   try {
     load_user_terms(dir.file("bad.toml"));
     FAIL() << "a term file with a [model] section";
   } catch (const ModelFileError& e) {
-    EXPECT_NE(std::string(e.what()).find(dir.file("bad.toml") + ":4"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(dir.file("bad.toml") + ":4"), std::string::npos)
+        << e.what();
     EXPECT_NE(std::string(e.what()).find("'model'"), std::string::npos) << e.what();
   }
   std::ofstream(dir.file("empty.toml")) << "[terms.a]\nphase = \"hold\"\n";
   EXPECT_THROW(load_user_terms(dir.file("empty.toml")), ModelFileError);
 }
 
-std::string rig(const std::string& args) { return testing::run_command(testing::bin("rig") + " " + args, false).output; }
+std::string rig(const std::string& args) {
+  return testing::run_command(testing::bin("rig") + " " + args, false).output;
+}
 
 TEST(Cli, ExplainProposesATermThatFitAddsFromTheTermFile) {
   testing::ScratchDir dir("cli-explain");
   std::filesystem::create_directories(dir.file("runs"));
-  for (std::size_t r = 0; r < dragged_runs().size(); ++r) write_run_csv(dragged_runs()[r], dir.file("runs/run" + std::to_string(r) + ".csv"));
-  const auto e = nlohmann::json::parse(rig("--format json model explain " + dir.file("runs") + " --save-term " + dir.file("t.toml")));
+  for (std::size_t r = 0; r < dragged_runs().size(); ++r)
+    write_run_csv(dragged_runs()[r], dir.file("runs/run" + std::to_string(r) + ".csv"));
+  const auto e = nlohmann::json::parse(rig("--format json model explain " + dir.file("runs") +
+                                           " --save-term " + dir.file("t.toml")));
   ASSERT_TRUE(e["proposed"].get<bool>()) << e.dump(2);
   EXPECT_EQ(e["term"]["name"], "explained");
   EXPECT_EQ(e["features"][0]["feature"], "x^2");
   EXPECT_EQ(e["features"][0]["gate"], "retraction");
   ASSERT_TRUE(std::ifstream(dir.file("t.toml")).good());
-  const std::string fit = "--format json model fit " + dir.file("runs") + " --terms " + dir.file("t.toml") + " --add user:explained";
+  const std::string fit = "--format json model fit " + dir.file("runs") + " --terms " +
+                          dir.file("t.toml") + " --add user:explained";
   const auto f = nlohmann::json::parse(rig(fit + " --save " + dir.file("m.toml")));
   EXPECT_EQ(f["effects"], nlohmann::json::array({"user:explained"}));
   EXPECT_TRUE(f["params"]["user:explained"].contains("c1"));
@@ -176,7 +188,8 @@ TEST(Cli, ExplainProposesATermThatFitAddsFromTheTermFile) {
   const auto again = nlohmann::json::parse(rig(fit + " --model " + dir.file("m.toml")));
   EXPECT_EQ(again["effects"], nlohmann::json::array({"user:explained"}));
   ASSERT_FALSE(again["warnings"].empty());
-  EXPECT_NE(again["warnings"].back().get<std::string>().find("already in the model"), std::string::npos);
+  EXPECT_NE(again["warnings"].back().get<std::string>().find("already in the model"),
+            std::string::npos);
 }
 
 }  // namespace

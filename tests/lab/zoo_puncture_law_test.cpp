@@ -16,11 +16,13 @@ namespace {
 // what it missed, and the candidate's floor was the eyes': `unexplained` (2026-11-28). The law
 // is now placed from the eyes' own shifts before their spread is estimated (puncture_law.hpp).
 TEST(BlindZoo, ACovariateThatMovesThePunctureIsNamedAndTheEyesKeepOnlyTheirOwnShift) {
-  const model::Diagnosis d = diagnose_zoo_draw(160009, "covariate:post_mortem_h", "covariate:puncture_shift");
+  const model::Diagnosis d =
+      diagnose_zoo_draw(160009, "covariate:post_mortem_h", "covariate:puncture_shift");
   EXPECT_EQ(d.verdict, "covariate:post_mortem_h");
   const model::CandidateResult* covariate = find_candidate(d, "covariate:post_mortem_h");
   ASSERT_NE(covariate, nullptr);
-  EXPECT_NE(covariate->evidence.find("moves the puncture"), std::string::npos) << covariate->evidence;
+  EXPECT_NE(covariate->evidence.find("moves the puncture"), std::string::npos)
+      << covariate->evidence;
   // The eyes keep their own shift: the simulator's eyes spread by 0.12 mm (PhysicsParams
   // eye_puncture_sigma_mm). Before the law was placed the verdict was `unexplained` and the
   // floor's eyes spread by 0.57 mm (the +-0.6 mm their search reaches); with it 0.20 mm.

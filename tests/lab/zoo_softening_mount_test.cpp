@@ -15,7 +15,8 @@ namespace {
 // noise times that compliance: the family gained 17.8 % within eyes (bar 40 %), `unexplained`.
 // The lag now follows the force averaged over +-5 samples (PreparedRun::mean_force_N).
 TEST(BlindZoo, ASofteningMountIsNamedRigCompliance) {
-  const model::Diagnosis d = diagnose_zoo_draw(290008, "rig_compliance", "rig_compliance:softening");
+  const model::Diagnosis d =
+      diagnose_zoo_draw(290008, "rig_compliance", "rig_compliance:softening");
   EXPECT_EQ(d.verdict, "rig_compliance");
 }
 

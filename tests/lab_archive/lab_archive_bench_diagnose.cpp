@@ -15,7 +15,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
 
 // IOPs x velocities giving at least `runs` simulated runs (shallow cuts: the load, not the
 // simulation, is measured).
@@ -24,27 +26,32 @@ std::string generate_command(const std::string& out, int runs) {
   const int n_iop = 25;
   const int n_velocity = (runs + n_iop - 1) / n_iop;
   for (int i = 0; i < n_iop; ++i) iops += (i ? "," : "") + std::to_string(10 + i);
-  for (int v = 0; v < n_velocity; ++v) velocities += (v ? "," : "") + std::to_string(1.0 + 3.0 * v / std::max(1, n_velocity)).substr(0, 5);
-  return rig::testing::bin("rig") + " sim generate --out " + out + " --iops " + iops + " --velocities " + velocities + " --depth 4 --hold 0";
+  for (int v = 0; v < n_velocity; ++v)
+    velocities +=
+        (v ? "," : "") + std::to_string(1.0 + 3.0 * v / std::max(1, n_velocity)).substr(0, 5);
+  return rig::testing::bin("rig") + " sim generate --out " + out + " --iops " + iops +
+         " --velocities " + velocities + " --depth 4 --hold 0";
 }
 
 void run_or_throw(const std::string& command) {
   const auto r = rig::testing::run_command(command);
   if (r.exit_code != 0) {
-    throw std::runtime_error(command.substr(0, 300) + " failed:\n" + r.output.substr(r.output.size() > 2000 ? r.output.size() - 2000 : 0));
+    throw std::runtime_error(command.substr(0, 300) + " failed:\n" +
+                             r.output.substr(r.output.size() > 2000 ? r.output.size() - 2000 : 0));
   }
 }
 
 }  // namespace
 
-int diagnose_phase(int runs, rig::testing::PgTestServer& server, const rig::testing::ScratchDir& dir) {
+int diagnose_phase(int runs, rig::testing::PgTestServer& server,
+                   const rig::testing::ScratchDir& dir) {
   const std::string out = dir.file("runs");
   const std::string sqlite = dir.file("diagnose.sqlite");
   run_or_throw(generate_command(out, runs));
   run_or_throw(rig::testing::bin("rig") + " --archive " + sqlite + " import " + out + "/*.csv");
   const auto push_start = Clock::now();
-  run_or_throw(rig::testing::bin("rig") + " --archive " + sqlite + " lab-archive push 'pg:" + server.conninfo() +
-               "' --rig-id bench-diagnose --sslmode disable");
+  run_or_throw(rig::testing::bin("rig") + " --archive " + sqlite + " lab-archive push 'pg:" +
+               server.conninfo() + "' --rig-id bench-diagnose --sslmode disable");
   const double push_s = seconds_since(push_start);
   rig::archive::Archive archive(sqlite, true);
   const auto rows = archive.list_runs();
@@ -63,10 +70,12 @@ int diagnose_phase(int runs, rig::testing::PgTestServer& server, const rig::test
   run_or_throw(diagnose + ids.substr(1) + " --archive " + sqlite + " --only shaft_friction");
   const double diagnose_sqlite = seconds_since(start);
   start = Clock::now();
-  run_or_throw(diagnose + "'pg:" + server.conninfo() + "' --rig bench-diagnose --only shaft_friction");
+  run_or_throw(diagnose + "'pg:" + server.conninfo() +
+               "' --rig bench-diagnose --only shaft_friction");
   const double diagnose_pg = seconds_since(start);
   std::printf("diagnose: %zu runs, %zu samples (pushed in %.1f s)\n", rows.size(), samples, push_s);
   std::printf("  load only:              SQLite %.2f s, PostgreSQL %.2f s\n", load_sqlite, load_pg);
-  std::printf("  rig model diagnose --only shaft_friction: SQLite %.1f s, PostgreSQL %.1f s\n", diagnose_sqlite, diagnose_pg);
+  std::printf("  rig model diagnose --only shaft_friction: SQLite %.1f s, PostgreSQL %.1f s\n",
+              diagnose_sqlite, diagnose_pg);
   return 0;
 }

@@ -21,13 +21,19 @@ using nlohmann::json;
 
 class LabCli : public ::testing::Test {
  protected:
-  testing::CommandResult rig(const std::string& args) { return testing::run_command(testing::bin("rig") + " " + args); }
+  testing::CommandResult rig(const std::string& args) {
+    return testing::run_command(testing::bin("rig") + " " + args);
+  }
   std::string pg() const { return "'pg:" + server_.conninfo() + "'"; }
   // Simulated runs (one CSV each), imported into `rigs` archives in turn and pushed.
   std::vector<std::string> three_rigs_pushed() {
-    EXPECT_EQ(rig("sim generate --out " + dir_.file("runs") + " --effect shaft_friction --iops 15,18 --velocities 2,3 --depth 8 --hold 0.5").exit_code, 0);
+    EXPECT_EQ(rig("sim generate --out " + dir_.file("runs") +
+                  " --effect shaft_friction --iops 15,18 --velocities 2,3 --depth 8 --hold 0.5")
+                  .exit_code,
+              0);
     std::vector<std::string> files;
-    for (const auto& e : std::filesystem::directory_iterator(dir_.file("runs"))) files.push_back(e.path().string());
+    for (const auto& e : std::filesystem::directory_iterator(dir_.file("runs")))
+      files.push_back(e.path().string());
     std::sort(files.begin(), files.end());
     const std::vector<std::string> rigs = {"rig-a", "rig-b", "rig-c"};
     for (std::size_t i = 0; i < files.size(); ++i) {
@@ -35,7 +41,8 @@ class LabCli : public ::testing::Test {
       EXPECT_EQ(rig("--archive " + archive + " import " + files[i]).exit_code, 0);
     }
     for (const auto& name : rigs) {
-      const auto pushed = rig("--archive " + dir_.file(name + ".sqlite") + " lab-archive push " + pg() + " --rig-id " + name + " --sslmode disable");
+      const auto pushed = rig("--archive " + dir_.file(name + ".sqlite") + " lab-archive push " +
+                              pg() + " --rig-id " + name + " --sslmode disable");
       EXPECT_EQ(pushed.exit_code, 0) << pushed.output;
     }
     return files;
@@ -50,9 +57,14 @@ TEST_F(LabCli, RunsOfThreeRigsAreListedFilteredAndDiagnosedTogetherAsFromTheirFi
   ASSERT_EQ(all["runs"].size(), files.size());
   const json of_b = json::parse(rig("--format json runs " + pg() + " --rig rig-b").output);
   EXPECT_EQ(of_b["runs"].size(), (files.size() + 1) / 3);
-  EXPECT_EQ(json::parse(rig("--format json runs " + pg() + " rig=rig-c since=2000-01-01").output)["runs"].size(), files.size() / 3);
-  const auto from_pg = rig("--format json model diagnose " + pg() + " --only shaft_friction,sensor_drift");
-  const auto from_files = rig("--format json model diagnose " + dir_.file("runs") + " --only shaft_friction,sensor_drift");
+  EXPECT_EQ(
+      json::parse(rig("--format json runs " + pg() + " rig=rig-c since=2000-01-01").output)["runs"]
+          .size(),
+      files.size() / 3);
+  const auto from_pg =
+      rig("--format json model diagnose " + pg() + " --only shaft_friction,sensor_drift");
+  const auto from_files = rig("--format json model diagnose " + dir_.file("runs") +
+                              " --only shaft_friction,sensor_drift");
   ASSERT_EQ(from_pg.exit_code, 0) << from_pg.output;
   ASSERT_EQ(from_files.exit_code, 0) << from_files.output;
   const json a = json::parse(from_pg.output.substr(from_pg.output.find('{')));
@@ -65,9 +77,11 @@ TEST_F(LabCli, OneRunExportsAsTheRunCsvItWasImportedFrom) {
   const auto files = three_rigs_pushed();
   const json runs = json::parse(rig("--format json runs " + pg() + " rig=rig-a").output);
   const std::string uuid = runs["runs"][0]["run_uuid"];
-  const auto exported = rig("export " + pg() + " run=" + uuid + " --csv -o " + dir_.file("back.csv"));
+  const auto exported =
+      rig("export " + pg() + " run=" + uuid + " --csv -o " + dir_.file("back.csv"));
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
-  const auto local = rig("--archive " + dir_.file("rig-a.sqlite") + " export 1 --csv -o " + dir_.file("local.csv"));
+  const auto local = rig("--archive " + dir_.file("rig-a.sqlite") + " export 1 --csv -o " +
+                         dir_.file("local.csv"));
   ASSERT_EQ(local.exit_code, 0) << local.output;
   // Same samples and channels: the data lines after the header agree, metadata aside.
   const auto data = [](const std::string& file) {
@@ -75,9 +89,11 @@ TEST_F(LabCli, OneRunExportsAsTheRunCsvItWasImportedFrom) {
   };
   EXPECT_EQ(data(dir_.file("back.csv")), data(dir_.file("local.csv")));
   std::filesystem::create_directories(dir_.file("all"));
-  ASSERT_EQ(rig("export " + pg() + " --eye-lot none -o " + dir_.file("all")).exit_code, 1);  // nothing matches: an error
+  ASSERT_EQ(rig("export " + pg() + " --eye-lot none -o " + dir_.file("all")).exit_code,
+            1);  // nothing matches: an error
   ASSERT_EQ(rig("export " + pg() + " -o " + dir_.file("all")).exit_code, 0);
-  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_.file("all")), std::filesystem::directory_iterator{}),
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir_.file("all")),
+                          std::filesystem::directory_iterator{}),
             static_cast<long>(files.size()));
 }
 
@@ -91,8 +107,11 @@ TEST_F(LabCli, APushKilledMidTransferResumesWithoutDuplicates) {
     run.force_N.push_back(1e-3 * (i % 1000));
   }
   for (int r = 0; r < 4; ++r) local.import_run(run);
-  const std::vector<std::string> push = {testing::bin("rig"), "--archive", dir_.file("big.sqlite"), "lab-archive", "push",
-                                         "pg:" + server_.conninfo(), "--rig-id", "rig-k", "--sslmode", "disable", "--batch", "5000"};
+  const std::vector<std::string> push = {
+      testing::bin("rig"), "--archive", dir_.file("big.sqlite"),
+      "lab-archive",       "push",      "pg:" + server_.conninfo(),
+      "--rig-id",          "rig-k",     "--sslmode",
+      "disable",           "--batch",   "5000"};
   cli::ChildProcess first(push, dir_.file("push1.log"));
   auto shipped = [this] {
     try {
@@ -111,8 +130,10 @@ TEST_F(LabCli, APushKilledMidTransferResumesWithoutDuplicates) {
   for (const auto& arg : push) again += "'" + arg + "' ";
   const auto second = testing::run_command(again);
   ASSERT_EQ(second.exit_code, 0) << second.output;
-  EXPECT_EQ(server_.query("SELECT count(*) || ' ' || count(DISTINCT (run_uuid, idx)) FROM samples"), "200000 200000");
-  EXPECT_EQ(server_.query("SELECT string_agg(samples::text, ',') FROM runs"), "50000,50000,50000,50000");
+  EXPECT_EQ(server_.query("SELECT count(*) || ' ' || count(DISTINCT (run_uuid, idx)) FROM samples"),
+            "200000 200000");
+  EXPECT_EQ(server_.query("SELECT string_agg(samples::text, ',') FROM runs"),
+            "50000,50000,50000,50000");
 }
 
 }  // namespace

@@ -31,8 +31,9 @@ TEST(LabArchiveConfig, IsOffByDefaultInTheShippedConfigs) {
 TEST(LabArchiveConfig, AValidSectionIsRead) {
   testing::ScratchDir dir("lab-config-ok");
   const std::string path = dir.file("rigd.toml");
-  std::ofstream(path) << "[lab_archive]\nenabled = true\nconninfo = \"host=lab-db dbname=lab user=rig_writer\"\n"
-                         "password_file = \"lab.password\"\nsslmode = \"verify-full\"\nrig_id = \"rig-3\"\n";
+  std::ofstream(path)
+      << "[lab_archive]\nenabled = true\nconninfo = \"host=lab-db dbname=lab user=rig_writer\"\n"
+         "password_file = \"lab.password\"\nsslmode = \"verify-full\"\nrig_id = \"rig-3\"\n";
   const RigdConfig c = load_rigd_config(path);
   EXPECT_TRUE(c.lab_archive.enabled);
   EXPECT_EQ(c.lab_archive.conninfo, "host=lab-db dbname=lab user=rig_writer");
@@ -54,13 +55,17 @@ TEST(LabArchiveConfig, BadValuesAreErrorsNamingLineAndKey) {
 
 TEST(LabArchiveConfig, EnabledWithoutAConnectionStringIsAnError) {
   const std::string m = message_for("enabled = true\n");
-  EXPECT_NE(m.find("'lab_archive.conninfo' is required when 'lab_archive.enabled' = true"), std::string::npos) << m;
+  EXPECT_NE(m.find("'lab_archive.conninfo' is required when 'lab_archive.enabled' = true"),
+            std::string::npos)
+      << m;
 }
 
 TEST(LabArchiveConfig, APasswordInTheConnectionStringIsRefused) {
   for (const std::string conninfo : {"host=db password=x", "postgresql://rig:secret@db/lab"}) {
     const std::string m = message_for("conninfo = \"" + conninfo + "\"\n");
-    EXPECT_NE(m.find("must not hold a password: put it in 'lab_archive.password_file'"), std::string::npos) << m;
+    EXPECT_NE(m.find("must not hold a password: put it in 'lab_archive.password_file'"),
+              std::string::npos)
+        << m;
   }
   EXPECT_EQ(message_for("conninfo = \"postgresql://rig@db:5432/lab\"\n"), "no error");
 }

@@ -13,8 +13,8 @@
 #include "lab_replicator.hpp"
 #include "lab_run_reader.hpp"
 #include "lab_schema.hpp"
-#include "pg_copy_in.hpp"
 #include "local_run_writer.hpp"
+#include "pg_copy_in.hpp"
 #include "pg_test_server.hpp"
 #include "run_csv.hpp"
 #include "run_uuid.hpp"
@@ -35,13 +35,17 @@ std::string uuid_of(archive::Archive& local, const std::string& rig, std::int64_
 }
 
 // Every sample, event and value of the local run is on the server once.
-void expect_exact_copy(const testing::PgTestServer& server, archive::Archive& local, const std::string& rig, std::int64_t run_id) {
+void expect_exact_copy(const testing::PgTestServer& server, archive::Archive& local,
+                       const std::string& rig, std::int64_t run_id) {
   const std::string uuid = uuid_of(local, rig, run_id);
   const auto row = local.find_run(run_id);
   ASSERT_TRUE(row.has_value());
-  EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples WHERE run_uuid = '" + uuid + "'"),
-            std::to_string(row->samples) + " " + std::to_string(row->samples));
-  EXPECT_EQ(server.query("SELECT count(*) FROM events WHERE run_uuid = '" + uuid + "'"), std::to_string(local.run_events(run_id).size()));
+  EXPECT_EQ(
+      server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples WHERE run_uuid = '" +
+                   uuid + "'"),
+      std::to_string(row->samples) + " " + std::to_string(row->samples));
+  EXPECT_EQ(server.query("SELECT count(*) FROM events WHERE run_uuid = '" + uuid + "'"),
+            std::to_string(local.run_events(run_id).size()));
   LabRunReader reader(server.conninfo());
   const model::RunData remote = reader.load_run(uuid);
   const model::RunData original = local.load_run(run_id);
@@ -68,7 +72,8 @@ bool drained(LabReplicator& replicator, double seconds) {
   const auto until = Clock::now() + std::chrono::duration<double>(seconds);
   while (Clock::now() < until) {
     const ReplicatorStatus s = replicator.status();
-    if (s.connected && s.backlog.known && s.backlog.samples == 0 && s.backlog.runs == 0) return true;
+    if (s.connected && s.backlog.known && s.backlog.samples == 0 && s.backlog.runs == 0)
+      return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   return false;
@@ -110,7 +115,8 @@ TEST_F(LabReplication, AFinishedRunReplicatesExactlyWithItsEventsFramesAndMetada
   RunShipper shipper(local.path(), "rig-a", "test");
   EXPECT_EQ(shipper.ship_pass(db, 100000), 5000);
   expect_exact_copy(server, local, "rig-a", id);
-  EXPECT_EQ(server.query("SELECT frame_no || ' ' || sample_index || ' ' || file FROM frames"), "0 1500 frames/run-1.bin");
+  EXPECT_EQ(server.query("SELECT frame_no || ' ' || sample_index || ' ' || file FROM frames"),
+            "0 1500 frames/run-1.bin");
   EXPECT_EQ(server.query("SELECT eye_lot || ' ' || outcome || ' ' || notes FROM runs"),
             "L7 completed tab\tand newline\nand backslash \\ in notes");
   EXPECT_EQ(shipper.ship_pass(db, 100000), 0);  // nothing left, nothing sent twice
@@ -127,13 +133,15 @@ TEST_F(LabReplication, AnImportedRunKeepsItsOwnChannels) {
     csv.x_mm.push_back(i * 1.5e-3);
     csv.force_N.push_back(0.01 * i + 1e-3 / 3.0);
   }
-  csv.channels = {{"temperature_C", std::vector<double>(300, 36.6)}, {"strain_u", std::vector<double>(300, -1.0 / 7.0)}};
+  csv.channels = {{"temperature_C", std::vector<double>(300, 36.6)},
+                  {"strain_u", std::vector<double>(300, -1.0 / 7.0)}};
   const std::int64_t id = local.import_run(csv);
   PgConnection db = lab();
   RunShipper shipper(local.path(), "rig-b", "test");
   shipper.ship_pass(db, 100000);
   expect_exact_copy(server, local, "rig-b", id);
-  EXPECT_EQ(server.query("SELECT string_agg(name, ',' ORDER BY seq) FROM channels"), "temperature_C,strain_u");
+  EXPECT_EQ(server.query("SELECT string_agg(name, ',' ORDER BY seq) FROM channels"),
+            "temperature_C,strain_u");
 }
 
 TEST_F(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
@@ -157,15 +165,19 @@ TEST_F(LabReplication, ARunInProgressShipsInPiecesAndEndsComplete) {
 
 TEST_F(LabReplication, TwoShippersOfOneRigNeverSendASampleTwice) {
   PgConnection db_a = lab(), db_b = lab();
-  RunShipper a(local.path(), "rig-a", "test"), b(local.path(), "rig-a", "test");  // e.g. rigd and a manual push
+  RunShipper a(local.path(), "rig-a", "test"),
+      b(local.path(), "rig-a", "test");  // e.g. rigd and a manual push
   const std::int64_t id = writer.start("E11", "L9");
   writer.append(id, 1000);
   EXPECT_EQ(a.ship_pass(db_a, 600), 600);
-  EXPECT_EQ(b.ship_pass(db_b, 100000), 400);  // b's first look at the server is under the run's lock
+  EXPECT_EQ(b.ship_pass(db_b, 100000),
+            400);  // b's first look at the server is under the run's lock
   writer.append(id, 100);
-  EXPECT_EQ(a.ship_pass(db_a, 100000), 100);  // a's cached watermark is stale; the locked one is not
+  EXPECT_EQ(a.ship_pass(db_a, 100000),
+            100);  // a's cached watermark is stale; the locked one is not
   EXPECT_EQ(b.ship_pass(db_b, 100000), 0);
-  EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples"), "1100 1100");
+  EXPECT_EQ(server.query("SELECT count(*) || ' ' || count(DISTINCT idx) FROM samples"),
+            "1100 1100");
 }
 
 TEST_F(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicatesNothing) {
@@ -185,7 +197,8 @@ TEST_F(LabReplication, AServerStoppedMidRunAndRestartedLosesNothingAndDuplicates
 
 TEST_F(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
   testing::TcpCutProxy proxy(server.port());
-  LabReplicator replicator(settings_for(server.conninfo(proxy.port()), "rig-a"), local.path(), "test");
+  LabReplicator replicator(settings_for(server.conninfo(proxy.port()), "rig-a"), local.path(),
+                           "test");
   replicator.start();
   const std::int64_t id = writer.start("E10", "L8");
   writer.append(id, 1000);
@@ -201,12 +214,14 @@ TEST_F(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
     writer.append(id, 1000);
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     const ReplicatorStatus s = replicator.status();
-    EXPECT_GE(s.backlog.samples, seen_during_cut);  // it grows (or holds) while the lab is out of reach
+    EXPECT_GE(s.backlog.samples,
+              seen_during_cut);  // it grows (or holds) while the lab is out of reach
     seen_during_cut = s.backlog.samples;
   }
   // The replicator counts its backlog on each retry (at most retry_max_ms = 300 ms apart, later
   // on a loaded machine): wait for the count that includes the last batch.
-  const ReplicatorStatus during = status_once(replicator, 10, [](const ReplicatorStatus& s) { return s.backlog.samples >= 4000; });
+  const ReplicatorStatus during = status_once(
+      replicator, 10, [](const ReplicatorStatus& s) { return s.backlog.samples >= 4000; });
   EXPECT_FALSE(during.connected);
   EXPECT_EQ(during.backlog.samples, 4000);
   EXPECT_NE(during.last_error.find("lab archive"), std::string::npos) << during.last_error;
@@ -218,9 +233,14 @@ TEST_F(LabReplication, TheBacklogGrowsWhileTheNetworkIsCutAndDrainsAfter) {
 
 TEST_F(LabReplication, ExtremeValuesArriveBitForBitInTheRunsMonthPartition) {
   const std::int64_t id = writer.start("E12", "L9");
-  const double extremes[] = {std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity(),
-                             std::numeric_limits<double>::denorm_min(), std::numeric_limits<double>::max(),
-                             std::numeric_limits<double>::lowest(), 0.1 + 0.2, -1.0 / 3.0, 1e-300};
+  const double extremes[] = {std::numeric_limits<double>::infinity(),
+                             -std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::denorm_min(),
+                             std::numeric_limits<double>::max(),
+                             std::numeric_limits<double>::lowest(),
+                             0.1 + 0.2,
+                             -1.0 / 3.0,
+                             1e-300};
   local.begin();
   for (std::uint64_t i = 0; i < 64; ++i) {
     rt::Sample s;
@@ -242,10 +262,13 @@ TEST_F(LabReplication, ExtremeValuesArriveBitForBitInTheRunsMonthPartition) {
   RunShipper shipper(local.path(), "rig-a", "test");
   EXPECT_EQ(shipper.ship_pass(db, 100000), 64);
   expect_exact_copy(server, local, "rig-a", id);
-  EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE s.run_created_at = r.created_at"
-                         " AND s.tableoid::regclass::text = 'samples_' || to_char(r.created_at AT TIME ZONE 'UTC', 'YYYY_MM')"),
+  EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE "
+                         "s.run_created_at = r.created_at"
+                         " AND s.tableoid::regclass::text = 'samples_' || to_char(r.created_at AT "
+                         "TIME ZONE 'UTC', 'YYYY_MM')"),
             "64");
-  EXPECT_EQ(server.query("SELECT count(*) FILTER (WHERE force_n = 'Infinity') || ' ' || max(idx) || ' ' || sum(io_ok)"
+  EXPECT_EQ(server.query("SELECT count(*) FILTER (WHERE force_n = 'Infinity') || ' ' || max(idx) "
+                         "|| ' ' || sum(io_ok)"
                          " || ' ' || max(state) FROM samples"),
             "8 63000196 32 7");
 }
@@ -254,12 +277,16 @@ TEST_F(LabReplication, ExtremeValuesArriveBitForBitInTheRunsMonthPartition) {
 // refuses after it has taken some pieces leaves nothing behind, and the next pass sends it all.
 TEST_F(LabReplication, ABatchRefusedHalfwayIsSentAgainWholeAndOnlyOnce) {
   const std::int64_t id = writer.start("E13", "L9");
-  for (int batch = 0; batch < 4; ++batch) writer.append(id, 10000);  // cycles 1000..40999, about 6 MB binary
+  for (int batch = 0; batch < 4; ++batch)
+    writer.append(id, 10000);  // cycles 1000..40999, about 6 MB binary
   PgConnection db = lab();
   RunShipper shipper(local.path(), "rig-a", "test");
-  db.exec("ALTER TABLE samples ADD CONSTRAINT refuse_late_samples CHECK (idx < 35000)", "refuse the last pieces");
+  db.exec("ALTER TABLE samples ADD CONSTRAINT refuse_late_samples CHECK (idx < 35000)",
+          "refuse the last pieces");
   EXPECT_THROW(shipper.ship_pass(db, 100000), LabArchiveError);
-  EXPECT_EQ(server.query("SELECT (SELECT count(*) FROM samples) || ' ' || (SELECT count(*) FROM runs)"), "0 0");
+  EXPECT_EQ(
+      server.query("SELECT (SELECT count(*) FROM samples) || ' ' || (SELECT count(*) FROM runs)"),
+      "0 0");
   EXPECT_EQ(shipper.backlog().samples, 40000);
   db.exec("ALTER TABLE samples DROP CONSTRAINT refuse_late_samples", "accept every sample");
   EXPECT_EQ(shipper.ship_pass(db, 100000), 40000);
@@ -298,7 +325,9 @@ TEST(LabArchivePassword, AFileOthersMayReadIsRefusedByName) {
     connection_params(s);
     FAIL() << "a world-readable password file was accepted";
   } catch (const LabArchiveError& e) {
-    EXPECT_NE(std::string(e.what()).find(file + ": lab_archive.password_file may be read by others (mode 644)"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find(
+                  file + ": lab_archive.password_file may be read by others (mode 644)"),
+              std::string::npos)
         << e.what();
   }
   chmod(file.c_str(), 0600);
@@ -312,7 +341,8 @@ TEST_F(LabReplication, RunsOfSeveralRigsAreFoundByRigEyeLotDateAndMetadata) {
     archive::Archive rig_archive(dir.file(rig + ".sqlite"));
     testing::LocalRunWriter rig_writer(rig_archive);
     for (const std::string lot : {"L1", "L2"}) {
-      const std::int64_t id = rig_writer.start("E-" + rig + lot, lot, rig == "rig-a" ? "ann" : "bob");
+      const std::int64_t id =
+          rig_writer.start("E-" + rig + lot, lot, rig == "rig-a" ? "ann" : "bob");
       rig_writer.append(id, 50);
       rig_writer.finish(id);
     }

@@ -22,7 +22,8 @@ namespace {
 using nlohmann::json;
 
 constexpr int kCutsPerRig = 2;
-const std::string kCut = R"({"eye_id":"E3R","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8,"meta":{"eye_lot":"LOT-3R"}})";
+const std::string kCut =
+    R"({"eye_id":"E3R","iop_mmHg":15,"velocity_mm_s":4,"depth_mm":8,"meta":{"eye_lot":"LOT-3R"}})";
 
 // Accidental faults (a starved DAQ link on a loaded machine) are retried: the subject is the
 // lab archive. Counted and printed, never hidden.
@@ -38,7 +39,8 @@ bool cut_once(const testing::RigProcesses& rig, std::string& why) {
       rig.api().post("/api/reset");
     }
     if (!rig.prepare(why)) continue;
-    if (rig.api().post("/api/run", kCut).status != 200) return why = "run refused: " + rig.status().dump(), false;
+    if (rig.api().post("/api/run", kCut).status != 200)
+      return why = "run refused: " + rig.status().dump(), false;
     json last;
     const bool settled = rig.wait(
         [&](const json& s) {
@@ -55,7 +57,8 @@ bool cut_once(const testing::RigProcesses& rig, std::string& why) {
 
 bool drained(const json& s) {
   const json& lab = s["lab_archive"];
-  return lab["connected"] == true && lab["backlog_known"] == true && lab["backlog_samples"] == 0 && lab["backlog_runs"] == 0;
+  return lab["connected"] == true && lab["backlog_known"] == true && lab["backlog_samples"] == 0 &&
+         lab["backlog_runs"] == 0;
 }
 
 // Samples of the completed runs in the rigs' own archives.
@@ -80,10 +83,11 @@ TEST(LabArchiveThreeRigds, ThreeRigdsCutIntoOnePostgresqlAndOneCommandDiagnosesA
     // The eye close to the home switch (as in the durability test): short homing and cuts.
     rigs.push_back(std::make_unique<testing::RigProcesses>(
         *dirs.back(), std::vector<std::string>{"--surface-mm", "12"},
-        std::vector<std::string>{"motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6",
-                                 "motion.retract_velocity_mm_s=6", "lab_archive.enabled=true",
-                                 "lab_archive.conninfo=\"" + server.conninfo() + "\"", "lab_archive.rig_id=\"" + name + "\"",
-                                 "lab_archive.sslmode=\"disable\""}));
+        std::vector<std::string>{
+            "motion.surface_mm=12", "motion.park_mm=10", "motion.homing_velocity_mm_s=6",
+            "motion.retract_velocity_mm_s=6", "lab_archive.enabled=true",
+            "lab_archive.conninfo=\"" + server.conninfo() + "\"",
+            "lab_archive.rig_id=\"" + name + "\"", "lab_archive.sslmode=\"disable\""}));
   }
   std::array<std::string, 3> failures;
   std::vector<std::thread> cutting;
@@ -91,7 +95,8 @@ TEST(LabArchiveThreeRigds, ThreeRigdsCutIntoOnePostgresqlAndOneCommandDiagnosesA
     cutting.emplace_back([&, i] {
       std::string why;
       for (int c = 0; c < kCutsPerRig && failures[i].empty(); ++c) {
-        if (!cut_once(*rigs[i], why)) failures[i] = names[i] + " cut " + std::to_string(c) + ": " + why;
+        if (!cut_once(*rigs[i], why))
+          failures[i] = names[i] + " cut " + std::to_string(c) + ": " + why;
       }
     });
   }
@@ -103,30 +108,39 @@ TEST(LabArchiveThreeRigds, ThreeRigdsCutIntoOnePostgresqlAndOneCommandDiagnosesA
 
   // The lab holds every completed run of every rig, sample for sample.
   const std::int64_t local_samples = completed_samples(rigs);
-  EXPECT_EQ(server.query("SELECT count(*) FROM runs WHERE outcome = 'completed' AND eye_lot = 'LOT-3R'"),
-            std::to_string(3 * kCutsPerRig));
-  EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE r.outcome = 'completed'"),
+  EXPECT_EQ(
+      server.query("SELECT count(*) FROM runs WHERE outcome = 'completed' AND eye_lot = 'LOT-3R'"),
+      std::to_string(3 * kCutsPerRig));
+  EXPECT_EQ(server.query("SELECT count(*) FROM samples s JOIN runs r USING (run_uuid) WHERE "
+                         "r.outcome = 'completed'"),
             std::to_string(local_samples));
 
   const std::string pg = "'pg:" + server.conninfo() + "'";
-  const auto rig_cli = [](const std::string& args) { return testing::run_command(testing::bin("rig") + " " + args); };
+  const auto rig_cli = [](const std::string& args) {
+    return testing::run_command(testing::bin("rig") + " " + args);
+  };
   const auto listed = rig_cli("--format json runs " + pg + " --eye-lot LOT-3R outcome=completed");
   ASSERT_EQ(listed.exit_code, 0) << listed.output;
   EXPECT_EQ(json::parse(listed.output)["runs"].size(), 3U * kCutsPerRig) << listed.output;
   const auto of_b = rig_cli("--format json runs " + pg + " --rig rig-b outcome=completed");
-  EXPECT_EQ(json::parse(of_b.output)["runs"].size(), static_cast<std::size_t>(kCutsPerRig)) << of_b.output;
+  EXPECT_EQ(json::parse(of_b.output)["runs"].size(), static_cast<std::size_t>(kCutsPerRig))
+      << of_b.output;
   // One command over all three rigs' runs.
-  const auto compared = rig_cli("--format json model compare " + pg + " --eye-lot LOT-3R outcome=completed");
+  const auto compared =
+      rig_cli("--format json model compare " + pg + " --eye-lot LOT-3R outcome=completed");
   ASSERT_EQ(compared.exit_code, 0) << compared.output;
   const json comparison = json::parse(compared.output.substr(compared.output.find('{')));
   EXPECT_EQ(comparison["runs"].size(), 3U * kCutsPerRig) << compared.output;
-  const auto diagnosed = rig_cli("--format json model diagnose " + pg + " --eye-lot LOT-3R outcome=completed");
+  const auto diagnosed =
+      rig_cli("--format json model diagnose " + pg + " --eye-lot LOT-3R outcome=completed");
   ASSERT_EQ(diagnosed.exit_code, 0) << diagnosed.output;
   const json diagnosis = json::parse(diagnosed.output.substr(diagnosed.output.find('{')));
   EXPECT_TRUE(diagnosis.contains("verdict")) << diagnosed.output;
-  std::printf("THREE RIGDS | %d completed runs, %lld samples in the lab archive | %d accidental faults (retried) | verdict: %s\n",
-              3 * kCutsPerRig, static_cast<long long>(local_samples), accidental_faults.load(),
-              diagnosis.value("verdict", json()).dump().c_str());
+  std::printf(
+      "THREE RIGDS | %d completed runs, %lld samples in the lab archive | %d accidental faults "
+      "(retried) | verdict: %s\n",
+      3 * kCutsPerRig, static_cast<long long>(local_samples), accidental_faults.load(),
+      diagnosis.value("verdict", json()).dump().c_str());
 }
 
 }  // namespace

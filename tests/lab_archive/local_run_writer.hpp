@@ -15,7 +15,8 @@ class LocalRunWriter {
  public:
   explicit LocalRunWriter(archive::Archive& archive) : archive_(archive) {}
 
-  std::int64_t start(const std::string& eye_id, const std::string& eye_lot, const std::string& operator_name = "ann") {
+  std::int64_t start(const std::string& eye_id, const std::string& eye_lot,
+                     const std::string& operator_name = "ann") {
     archive::NewRun run;
     run.eye_id = eye_id;
     run.operator_name = operator_name;
@@ -47,7 +48,8 @@ class LocalRunWriter {
       s.io_ok = cycle_ % 997 == 0 ? 0 : 1;
       archive_.append_sample(s);
     }
-    archive_.add_event(run_id, 5.0 + static_cast<double>(cycle_) * 1e-3, "batch", "after cycle " + std::to_string(cycle_));
+    archive_.add_event(run_id, 5.0 + static_cast<double>(cycle_) * 1e-3, "batch",
+                       "after cycle " + std::to_string(cycle_));
     archive_.commit();
   }
   void finish(std::int64_t run_id) { archive_.finish_run(run_id, "completed", ""); }

@@ -1,9 +1,10 @@
 #pragma once
 // What the machine itself does to time under load: one thread per CPU, pinned there at
 // SCHED_FIFO 99 (when allowed), sleeps 1 ms on absolute deadlines and notes every wake more
-// than 5 ms late (docs/loop-timing.md's first measurement noted those over 3 ms). At that priority only the machine can hold it: a VM's vCPU throttled by its
-// host, or the kernel. A stall of one CPU while another runs is what separates a simulated DAQ
-// from the loop it answers (daemon/cli/shared_cpu.hpp); the load tier prints the counts.
+// than 5 ms late (docs/loop-timing.md's first measurement noted those over 3 ms). At that priority
+// only the machine can hold it: a VM's vCPU throttled by its host, or the kernel. A stall of one
+// CPU while another runs is what separates a simulated DAQ from the loop it answers
+// (daemon/cli/shared_cpu.hpp); the load tier prints the counts.
 #include <pthread.h>
 #include <sched.h>
 #include <time.h>
@@ -11,8 +12,8 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
-#include <cstdlib>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 #include <thread>
 #include <vector>
@@ -35,7 +36,8 @@ class CpuStallProbe {
       if (CPU_ISSET(cpu, &allowed)) cpus.push_back(cpu);
     }
     stalls_.resize(cpus.size());
-    for (std::size_t i = 0; i < cpus.size(); ++i) threads_.emplace_back([this, i, cpu = cpus[i]] { watch(i, cpu); });
+    for (std::size_t i = 0; i < cpus.size(); ++i)
+      threads_.emplace_back([this, i, cpu = cpus[i]] { watch(i, cpu); });
   }
   ~CpuStallProbe() { stop(); }
   CpuStallProbe(const CpuStallProbe&) = delete;
@@ -48,7 +50,8 @@ class CpuStallProbe {
     }
   }
 
-  // After stop(): "N stalls >= T ms (one CPU while another ran: S, every CPU at once: B), longest L ms".
+  // After stop(): "N stalls >= T ms (one CPU while another ran: S, every CPU at once: B), longest L
+  // ms".
   std::string summary(double threshold_ms) const {
     int alone = 0, together = 0;
     double longest_ms = 0.0;
@@ -60,8 +63,11 @@ class CpuStallProbe {
       }
     }
     char line[200];
-    std::snprintf(line, sizeof line, "%d stalls >= %.0f ms (one CPU while another ran: %d, every CPU at once: %d), longest %.1f ms%s%s",
-                  alone + together, threshold_ms, alone, together, longest_ms, realtime_ ? "" : " (not SCHED_FIFO: also the guest's own load)",
+    std::snprintf(line, sizeof line,
+                  "%d stalls >= %.0f ms (one CPU while another ran: %d, every CPU at once: %d), "
+                  "longest %.1f ms%s%s",
+                  alone + together, threshold_ms, alone, together, longest_ms,
+                  realtime_ ? "" : " (not SCHED_FIFO: also the guest's own load)",
                   pinned_ ? "" : " (not pinned: CPUs mixed up)");
     return line;
   }
@@ -77,9 +83,10 @@ class CpuStallProbe {
   bool held_everywhere(std::size_t cpu, const Stall& s) const {
     for (std::size_t other = 0; other < stalls_.size(); ++other) {
       if (other == cpu) continue;
-      const bool also = std::any_of(stalls_[other].begin(), stalls_[other].end(), [&](const Stall& o) {
-        return std::abs(o.woke_ns - s.woke_ns) < 2'000'000 && o.late_ns > 3'000'000;
-      });
+      const bool also =
+          std::any_of(stalls_[other].begin(), stalls_[other].end(), [&](const Stall& o) {
+            return std::abs(o.woke_ns - s.woke_ns) < 2'000'000 && o.late_ns > 3'000'000;
+          });
       if (!also) return false;
     }
     return stalls_.size() > 1;
@@ -98,10 +105,12 @@ class CpuStallProbe {
     std::int64_t deadline = now_ns();
     while (!stop_.load(std::memory_order_relaxed)) {
       deadline += 1'000'000;
-      const timespec at{static_cast<time_t>(deadline / 1'000'000'000LL), static_cast<long>(deadline % 1'000'000'000LL)};
+      const timespec at{static_cast<time_t>(deadline / 1'000'000'000LL),
+                        static_cast<long>(deadline % 1'000'000'000LL)};
       clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr);
       const std::int64_t woke = now_ns();
-      if (woke - deadline > 5'000'000 && mine.size() < mine.capacity()) mine.push_back({woke, woke - deadline});
+      if (woke - deadline > 5'000'000 && mine.size() < mine.capacity())
+        mine.push_back({woke, woke - deadline});
       deadline = std::max(deadline, woke - 1'000'000);  // after a stall: on from now, no burst
     }
   }

@@ -4,10 +4,10 @@
 // pages, a CPU hog on every core and a disk writer. Counts the cuts that did not complete and
 // prints why (LOAD-FIGURE lines; docs/loop-timing.md quotes them).
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <netinet/in.h>
 #include <sys/socket.h>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <fstream>
@@ -45,8 +45,8 @@ std::string read_file(const std::string& path) {
 
 struct Cut {
   bool completed = false;
-  int retried = 0;  // timing faults the demo met and cut again after (its `accidental_faults`)
-  std::string why;  // the demo's own words when it did not complete
+  int retried = 0;   // timing faults the demo met and cut again after (its `accidental_faults`)
+  std::string why;   // the demo's own words when it did not complete
   std::string loop;  // loop figures of a completed cut: jitter p99, overruns, DAQ misses
 };
 
@@ -56,14 +56,18 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
   const std::string state = dir.file(name);
   const std::string log = dir.file(name + ".log");
   {
-    cli::ChildProcess demo({testing::bin("rig"), "demo", "--once", "--format", "json", "--port", std::to_string(port), "--sim", testing::bin("rig-sim"),
-                            "--rigd", testing::bin("rigd"), "--config", testing::source("config/rigd.sim.toml"), "--state-dir", state},
-                           log);
+    cli::ChildProcess demo(
+        {testing::bin("rig"), "demo", "--once", "--format", "json", "--port", std::to_string(port),
+         "--sim", testing::bin("rig-sim"), "--rigd", testing::bin("rigd"), "--config",
+         testing::source("config/rigd.sim.toml"), "--state-dir", state},
+        log);
     std::unique_ptr<cli::ChildProcess> browser;
     const auto end = std::chrono::steady_clock::now() + std::chrono::minutes(5);
     while (demo.running() && std::chrono::steady_clock::now() < end) {
-      if (with_browser && !browser && read_file(state + "/rigd.log").find("ready, API on") != std::string::npos) {
-        browser = testing::BusyMachine::browser_on_page(dir, "http://127.0.0.1:" + std::to_string(port) + "/", name);
+      if (with_browser && !browser &&
+          read_file(state + "/rigd.log").find("ready, API on") != std::string::npos) {
+        browser = testing::BusyMachine::browser_on_page(
+            dir, "http://127.0.0.1:" + std::to_string(port) + "/", name);
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(100));
     }
@@ -76,30 +80,36 @@ Cut demo_cut(const ScratchDir& dir, const std::string& name, bool with_browser) 
       const auto j = nlohmann::json::parse(out.substr(summary, out.find('\n', summary) - summary));
       cut.completed = j["outcome"] == "completed";
       cut.retried = j.value("accidental_faults", -1);
-      cut.loop = "jitter p99 " + std::to_string(j["loop_jitter_p99_us"].get<double>()) + " us, overruns " +
-                 std::to_string(j["loop_overruns"].get<long>()) + ", DAQ misses " + std::to_string(j["daq_misses"].get<long>());
+      cut.loop = "jitter p99 " + std::to_string(j["loop_jitter_p99_us"].get<double>()) +
+                 " us, overruns " + std::to_string(j["loop_overruns"].get<long>()) +
+                 ", DAQ misses " + std::to_string(j["daq_misses"].get<long>());
     } catch (const std::exception& e) {
       cut.why = std::string("unreadable summary: ") + e.what();
     }
   }
-  if (cut.completed && cut.retried != 0) {  // completed, but only after a timing fault: still an accidental fault
+  if (cut.completed &&
+      cut.retried != 0) {  // completed, but only after a timing fault: still an accidental fault
     // The demo names the fault on the line before "a timing fault of the simulated rig".
     const auto marker = out.find("\n[demo] a timing fault");
-    const auto start = marker == std::string::npos ? std::string::npos : out.rfind("[demo] ", marker);
+    const auto start =
+        marker == std::string::npos ? std::string::npos : out.rfind("[demo] ", marker);
     cut.why = "completed after " + std::to_string(cut.retried) + " accidental fault(s): " +
-              (start != std::string::npos ? out.substr(start, marker - start) : std::string("(no fault line)"));
+              (start != std::string::npos ? out.substr(start, marker - start)
+                                          : std::string("(no fault line)"));
   } else if (!cut.completed && cut.why.empty()) {
     const auto failed = out.find("[demo] failed: ");
-    cut.why = failed != std::string::npos ? out.substr(failed, out.find('\n', failed) - failed) : out.substr(out.size() > 400 ? out.size() - 400 : 0);
+    cut.why = failed != std::string::npos ? out.substr(failed, out.find('\n', failed) - failed)
+                                          : out.substr(out.size() > 400 ? out.size() - 400 : 0);
   }
   return cut;
 }
 
-TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWithoutAnAccidentalFault) {
+TEST(LoadedDemo,
+     FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWithoutAnAccidentalFault) {
   ScratchDir dir("loaded-demo");
   testing::BusyMachine busy(dir);
   testing::CpuStallProbe probe;  // what the machine itself did to time meanwhile
-  constexpr int kRounds = 25;  // two cuts per round
+  constexpr int kRounds = 25;    // two cuts per round
   int completed = 0;
   std::vector<std::string> faults;
   for (int round = 0; round < kRounds; ++round) {
@@ -111,16 +121,20 @@ TEST(LoadedDemo, FiftyCutsTwoSideBySideWithABrowserAndEveryCoreBusyCompleteWitho
     for (const Cut* cut : {&with_browser, &beside}) {
       if (cut->completed) ++completed;
       // A cut the demo had to make again after a timing fault counts: the fault happened.
-      if (!cut->completed || cut->retried != 0) faults.push_back("round " + std::to_string(round) + ": " + cut->why);
+      if (!cut->completed || cut->retried != 0)
+        faults.push_back("round " + std::to_string(round) + ": " + cut->why);
     }
     const auto words = [](const Cut& c) { return c.completed && c.retried == 0 ? c.loop : c.why; };
-    std::printf("LOAD-ROUND | %d | browser-side cut: %s | other cut: %s\n", round, words(with_browser).c_str(), words(beside).c_str());
+    std::printf("LOAD-ROUND | %d | browser-side cut: %s | other cut: %s\n", round,
+                words(with_browser).c_str(), words(beside).c_str());
     std::fflush(stdout);
   }
-  std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n", 2 * kRounds, completed, faults.size());
+  std::printf("LOAD-FIGURE | loaded demo cuts %d | completed %d | accidental faults %zu\n",
+              2 * kRounds, completed, faults.size());
   for (const auto& f : faults) std::printf("LOAD-FAULT | %s\n", f.c_str());
   probe.stop();
-  std::printf("LOAD-STALLS | the machine held a CPU-pinned SCHED_FIFO 99 thread: %s\n", probe.summary(10.0).c_str());
+  std::printf("LOAD-STALLS | the machine held a CPU-pinned SCHED_FIFO 99 thread: %s\n",
+              probe.summary(10.0).c_str());
   std::fflush(stdout);
   EXPECT_EQ(completed, 2 * kRounds);
   EXPECT_TRUE(faults.empty());

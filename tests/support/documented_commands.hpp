@@ -18,7 +18,8 @@ struct DocumentedCommand {
 
 // `also`: more programs, e.g. "socat|mkdir" where a block prepares what the next lines use.
 inline bool is_command_of_ours(const std::string& text, const std::string& also = "") {
-  const std::regex program("^(\\./rig|rig|rigd|rig-sim|mbpoll" + (also.empty() ? "" : "|" + also) + ")( |$)");
+  const std::regex program("^(\\./rig|rig|rigd|rig-sim|mbpoll" + (also.empty() ? "" : "|" + also) +
+                           ")( |$)");
   return std::regex_search(text, program);
 }
 
@@ -27,14 +28,16 @@ inline std::string without_comment(const std::string& text) {
   return std::regex_replace(text, kComment, "");
 }
 
-inline std::vector<DocumentedCommand> documented_commands(const std::string& path, const std::string& name,
+inline std::vector<DocumentedCommand> documented_commands(const std::string& path,
+                                                          const std::string& name,
                                                           const std::string& also = "") {
   std::ifstream in(path);
   std::vector<DocumentedCommand> found;
   std::set<std::string> seen;
   auto add = [&](int line, std::string text) {
     while (!text.empty() && text.back() == ' ') text.pop_back();
-    if (is_command_of_ours(text, also) && seen.insert(text).second) found.push_back({name, line, text});
+    if (is_command_of_ours(text, also) && seen.insert(text).second)
+      found.push_back({name, line, text});
   };
   static const std::regex kInline(R"(`(\./rig [^`<]*)`)");
   std::string line, pending;
@@ -49,7 +52,8 @@ inline std::vector<DocumentedCommand> documented_commands(const std::string& pat
     in_indented = !fenced && line.rfind("    ", 0) == 0 && (previous_blank || in_indented);
     previous_blank = line.find_first_not_of(' ') == std::string::npos;
     if (fenced || in_indented) {
-      std::string text = line.substr(line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '));
+      std::string text = line.substr(
+          line.find_first_not_of(' ') == std::string::npos ? 0 : line.find_first_not_of(' '));
       if (pending.empty()) pending_line = number;
       text = without_comment(text);
       if (!text.empty() && text.back() == '\\') {
@@ -60,7 +64,8 @@ inline std::vector<DocumentedCommand> documented_commands(const std::string& pat
       pending.clear();
       continue;
     }
-    for (std::sregex_iterator it(line.begin(), line.end(), kInline), end; it != end; ++it) add(number, (*it)[1]);
+    for (std::sregex_iterator it(line.begin(), line.end(), kInline), end; it != end; ++it)
+      add(number, (*it)[1]);
   }
   return found;
 }

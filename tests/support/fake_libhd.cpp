@@ -32,7 +32,8 @@ std::atomic<hd::HDerror> g_pending_error{hd::kSuccess};
 std::atomic<hd::HDerror> g_init_error{hd::kSuccess};
 std::atomic<double> g_last_force_z{0.0};
 std::atomic<long> g_frames{0};
-std::atomic<long> g_stall_ms{0};  // the scheduler's next frame comes this much later [ms] (a stalled servo thread)
+std::atomic<long> g_stall_ms{
+    0};  // the scheduler's next frame comes this much later [ms] (a stalled servo thread)
 // The frames whose stylus was within 0.1 mm of 1 mm below the surface: the force [N] set
 // along z and the true depth [mm], summed (a mean over ~100 frames, so one frame disturbed by
 // a loaded machine does not decide the test).
@@ -41,11 +42,13 @@ double g_band_force_sum = 0.0, g_band_depth_sum = 0.0;
 long g_band_frames = 0;
 std::atomic<double> g_frame_z_mm{3.0};  // [mm] true stylus z when the servo read it this frame
 constexpr double kCount_mm = 0.055;     // one encoder count at the tip, as on an Omni
-std::atomic<long> g_start_ns{0};           // the stylus starts moving at the first frame (0: not yet)
+std::atomic<long> g_start_ns{0};        // the stylus starts moving at the first frame (0: not yet)
 hd::HDSchedulerHandle g_next_handle = 1;
 
 long now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
 }
 
 double stylus_z_mm() {
@@ -75,9 +78,13 @@ void scheduler_loop() {
 
 extern "C" {
 
-hd::HHD hdInitDevice(hd::HDstring /*name*/) { return g_init_error.load() == hd::kSuccess ? 1U : hd::kInvalidHandle; }
+hd::HHD hdInitDevice(hd::HDstring /*name*/) {
+  return g_init_error.load() == hd::kSuccess ? 1U : hd::kInvalidHandle;
+}
 void hdDisableDevice(hd::HHD /*device*/) {}
-hd::HHD hdGetCurrentDevice() { return 1U; }
+hd::HHD hdGetCurrentDevice() {
+  return 1U;
+}
 void hdEnable(hd::HDenum cap) {
   if (cap == hd::kForceOutput) g_force_output.store(true);
 }
@@ -90,18 +97,28 @@ void hdBeginFrame(hd::HHD /*device*/) {
   long unset = 0;
   g_start_ns.compare_exchange_strong(unset, now_ns());
 }
-void hdEndFrame(hd::HHD /*device*/) { g_frames.fetch_add(1); }
+void hdEndFrame(hd::HHD /*device*/) {
+  g_frames.fetch_add(1);
+}
 
 void hdGetDoublev(hd::HDenum what, hd::HDdouble* value) {
   switch (what) {
     case hd::kCurrentPosition:
       g_frame_z_mm.store(stylus_z_mm());
-      value[0] = 0.0, value[1] = 0.0, value[2] = std::round(g_frame_z_mm.load() / kCount_mm) * kCount_mm;
+      value[0] = 0.0, value[1] = 0.0,
+      value[2] = std::round(g_frame_z_mm.load() / kCount_mm) * kCount_mm;
       break;
-    case hd::kNominalMaxForce: value[0] = 3.3; break;
-    case hd::kNominalMaxContinuousForce: value[0] = 0.6; break;  // differs from the sim's 0.88 on purpose
-    case hd::kNominalMaxStiffness: value[0] = 0.9; break;
-    default: value[0] = 0.0;
+    case hd::kNominalMaxForce:
+      value[0] = 3.3;
+      break;
+    case hd::kNominalMaxContinuousForce:
+      value[0] = 0.6;
+      break;  // differs from the sim's 0.88 on purpose
+    case hd::kNominalMaxStiffness:
+      value[0] = 0.9;
+      break;
+    default:
+      value[0] = 0.0;
   }
 }
 
@@ -126,7 +143,8 @@ hd::HDErrorInfo hdGetError() {
   return info;
 }
 
-hd::HDSchedulerHandle hdScheduleAsynchronous(hd::HDSchedulerCallback callback, void* user_data, hd::HDushort /*priority*/) {
+hd::HDSchedulerHandle hdScheduleAsynchronous(hd::HDSchedulerCallback callback, void* user_data,
+                                             hd::HDushort /*priority*/) {
   std::lock_guard lock(g_mutex);
   g_callbacks.push_back({callback, user_data, g_next_handle, true});
   return g_next_handle++;
@@ -151,12 +169,24 @@ void hdStopScheduler() {
 }
 
 // Test hooks.
-void fake_hd_inject_error(hd::HDerror code) { g_pending_error.store(code); }
-void fake_hd_fail_init(hd::HDerror code) { g_init_error.store(code); }
-void fake_hd_stall_scheduler(long ms) { g_stall_ms.store(ms); }
-double fake_hd_last_force_z() { return g_last_force_z.load(); }
-int fake_hd_force_output_enabled() { return g_force_output.load() ? 1 : 0; }
-long fake_hd_frames() { return g_frames.load(); }
+void fake_hd_inject_error(hd::HDerror code) {
+  g_pending_error.store(code);
+}
+void fake_hd_fail_init(hd::HDerror code) {
+  g_init_error.store(code);
+}
+void fake_hd_stall_scheduler(long ms) {
+  g_stall_ms.store(ms);
+}
+double fake_hd_last_force_z() {
+  return g_last_force_z.load();
+}
+int fake_hd_force_output_enabled() {
+  return g_force_output.load() ? 1 : 0;
+}
+long fake_hd_frames() {
+  return g_frames.load();
+}
 // Means over the frames 0.9-1.1 mm deep: force [N], depth [mm]; and how many frames.
 double fake_hd_force_at_1mm() {
   std::lock_guard lock(g_band_mutex);

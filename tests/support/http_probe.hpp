@@ -50,9 +50,9 @@ inline ProbeReply http_probe(int port, boost::beast::http::verb method, const st
       {boost::asio::ip::make_address("127.0.0.1"), static_cast<unsigned short>(port)},
       [&](beast::error_code ec) {
         if (ec) return void(reply.error = "connect: " + ec.message());
-        reply.connected_ms = std::chrono::duration<double, std::milli>(
-                                 std::chrono::steady_clock::now() - start)
-                                 .count();
+        reply.connected_ms =
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+                .count();
         http::async_write(stream, request, [&](beast::error_code wec, std::size_t) {
           if (wec) return void(reply.error = "write: " + wec.message());
           http::async_read(stream, buffer, response, [&](beast::error_code rec, std::size_t) {

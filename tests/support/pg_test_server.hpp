@@ -47,20 +47,26 @@ class PgTestServer {
   PgTestServer& operator=(const PgTestServer&) = delete;
 
   void start() {
-    server("pg_ctl -D " + dir_ + "/data -l " + dir_ + "/log -w -t 30 -o \"-p " + std::to_string(port_) + " -k " + dir_ +
-           " -c listen_addresses=127.0.0.1 -c max_connections=60" + (durable_ ? "" : " -c fsync=off") + "\" start");
+    server("pg_ctl -D " + dir_ + "/data -l " + dir_ + "/log -w -t 30 -o \"-p " +
+           std::to_string(port_) + " -k " + dir_ +
+           " -c listen_addresses=127.0.0.1 -c max_connections=60" +
+           (durable_ ? "" : " -c fsync=off") + "\" start");
   }
   // mode: fast (clean shutdown) or immediate (like a crash; WAL replay at the next start).
-  void stop(const std::string& mode = "fast") { server("pg_ctl -D " + dir_ + "/data -m " + mode + " -w stop"); }
+  void stop(const std::string& mode = "fast") {
+    server("pg_ctl -D " + dir_ + "/data -m " + mode + " -w stop");
+  }
   int port() const { return port_; }
   std::string conninfo(int port = 0) const {
-    return "host=127.0.0.1 port=" + std::to_string(port == 0 ? port_ : port) + " user=postgres dbname=lab";
+    return "host=127.0.0.1 port=" + std::to_string(port == 0 ? port_ : port) +
+           " user=postgres dbname=lab";
   }
   // One psql command against database db; its output (unaligned, tuples only).
   std::string psql(const std::string& db, const std::string& sql) const {
     const std::string escaped = shell_quote(sql);
-    const auto r = run_command(std::string(kBin) + "/psql -X -q -At -v ON_ERROR_STOP=1 -h 127.0.0.1 -p " +
-                               std::to_string(port_) + " -U postgres -d " + db + " -c " + escaped);
+    const auto r =
+        run_command(std::string(kBin) + "/psql -X -q -At -v ON_ERROR_STOP=1 -h 127.0.0.1 -p " +
+                    std::to_string(port_) + " -U postgres -d " + db + " -c " + escaped);
     if (r.exit_code != 0) throw std::runtime_error("psql failed: " + sql + "\n" + r.output);
     return r.output;
   }
@@ -94,11 +100,13 @@ class PgTestServer {
     const std::string templ = "/tmp/rig-pg15-template-" + owner;
     if (!std::filesystem::exists(templ + "/PG_VERSION")) {
       server("initdb -D " + dir_ + "/data -U postgres -A trust --no-sync -E UTF8 --locale=C");
-      run_command(as_user_ + "cp -a " + dir_ + "/data " + dir_ + "/template && " + as_user_ + "mv -T " + dir_ + "/template " + templ);
+      run_command(as_user_ + "cp -a " + dir_ + "/data " + dir_ + "/template && " + as_user_ +
+                  "mv -T " + dir_ + "/template " + templ);
       return;
     }
     const auto r = run_command(as_user_ + "cp -a " + templ + " " + dir_ + "/data");
-    if (r.exit_code != 0) throw std::runtime_error("cannot copy the template cluster " + templ + ": " + r.output);
+    if (r.exit_code != 0)
+      throw std::runtime_error("cannot copy the template cluster " + templ + ": " + r.output);
   }
   static std::string shell_quote(const std::string& text) {
     std::string out = "'";
@@ -109,7 +117,8 @@ class PgTestServer {
     const auto r = run_command(as_user_ + kBin + "/" + command);
     if (r.exit_code != 0) {
       const auto log = run_command("tail -n 20 " + dir_ + "/log");
-      throw std::runtime_error("PostgreSQL test server: '" + command + "' failed:\n" + r.output + log.output);
+      throw std::runtime_error("PostgreSQL test server: '" + command + "' failed:\n" + r.output +
+                               log.output);
     }
   }
 

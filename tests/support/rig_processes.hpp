@@ -36,10 +36,12 @@ inline constexpr double kSimDaqWatchdog_ms = 15.0;    // config/rigd.sim.toml
 class RigProcesses {
  public:
   explicit RigProcesses(const ScratchDir& dir, std::vector<std::string> sim_args = {},
-                        std::vector<std::string> rigd_sets = {}, std::vector<std::string> rigd_launcher = {})
+                        std::vector<std::string> rigd_sets = {},
+                        std::vector<std::string> rigd_launcher = {})
       : dir_(&dir), rigd_launcher_(std::move(rigd_launcher)) {
     std::vector<std::string> sim = {bin("rig-sim"), "--port", "0"};
-    if (cpu_ >= 0) sim.insert(sim.end(), {"--cpu", std::to_string(cpu_)});  // as rig demo does (shared_cpu.hpp)
+    if (cpu_ >= 0)
+      sim.insert(sim.end(), {"--cpu", std::to_string(cpu_)});  // as rig demo does (shared_cpu.hpp)
     sim.insert(sim.end(), sim_args.begin(), sim_args.end());
     sim_ = std::make_unique<cli::ChildProcess>(sim, dir.file("rig-sim.log"));
     const std::string line = sim_->wait_for_line("listening on", 10000);
@@ -53,8 +55,8 @@ class RigProcesses {
   ~RigProcesses() {
     for (cli::ChildProcess* child : {rigd_.get(), sim_.get()}) {
       if (child != nullptr && child->pid() > 0 && !child->running()) {
-        std::printf("CHILD-ENDED | %s ended before the test stopped it; the end of its log:\n%s\n", child->log_path().c_str(),
-                    child->log_tail(4000).c_str());
+        std::printf("CHILD-ENDED | %s ended before the test stopped it; the end of its log:\n%s\n",
+                    child->log_path().c_str(), child->log_tail(4000).c_str());
       }
     }
   }
@@ -62,17 +64,27 @@ class RigProcesses {
   RigProcesses& operator=(const RigProcesses&) = delete;
 
   void start_rigd() {
-    std::vector<std::string> args = {bin("rigd"), "--config", source("config/rigd.sim.toml"),
-                                     "--set", "daq.port=" + std::to_string(sim_port_), "--set", "api.port=0",
-                                     "--set", "archive.path=\"" + archive_path() + "\""};
+    std::vector<std::string> args = {bin("rigd"),
+                                     "--config",
+                                     source("config/rigd.sim.toml"),
+                                     "--set",
+                                     "daq.port=" + std::to_string(sim_port_),
+                                     "--set",
+                                     "api.port=0",
+                                     "--set",
+                                     "archive.path=\"" + archive_path() + "\""};
     if (cpu_ >= 0) args.insert(args.end(), {"--set", "loop.cpu=" + std::to_string(cpu_)});
     if (kSanitizedRig) {
-      args.insert(args.end(), {"--set", "safety.link_lost_after_ms=" + std::to_string(kSimLinkLostAfter_ms), "--set",
-                               "daq.watchdog_ms=" + std::to_string(static_cast<int>(kSimDaqWatchdog_ms))});
+      args.insert(
+          args.end(),
+          {"--set", "safety.link_lost_after_ms=" + std::to_string(kSimLinkLostAfter_ms), "--set",
+           "daq.watchdog_ms=" + std::to_string(static_cast<int>(kSimDaqWatchdog_ms))});
     }
     for (const auto& s : rigd_sets_) args.insert(args.end(), {"--set", s});
-    args.insert(args.begin(), rigd_launcher_.begin(), rigd_launcher_.end());  // e.g. prlimit --fsize=...
-    rigd_ = std::make_unique<cli::ChildProcess>(args, dir_->file("rigd-" + std::to_string(++rigd_starts_) + ".log"));
+    args.insert(args.begin(), rigd_launcher_.begin(),
+                rigd_launcher_.end());  // e.g. prlimit --fsize=...
+    rigd_ = std::make_unique<cli::ChildProcess>(
+        args, dir_->file("rigd-" + std::to_string(++rigd_starts_) + ".log"));
     const std::string ready = rigd_->wait_for_line("ready, API on", 20000);
     url_ = ready.substr(ready.find("http://"));
   }
@@ -105,14 +117,16 @@ class RigProcesses {
       const nlohmann::json s = status();
       const std::string fault = s.value("fault", "");
       if (s["state"] != "Fault" || !cli::is_timing_fault(fault)) return false;
-      std::printf("ACCIDENTAL | a timing fault while preparing, reset and retried: %s\n", fault.c_str());
+      std::printf("ACCIDENTAL | a timing fault while preparing, reset and retried: %s\n",
+                  fault.c_str());
       reset_after_timing_fault();
     }
     return false;
   }
   // One completed cut (prepared, run, Done) for tests whose subject is what a cut leaves
   // behind, not the loop's timing: a timing fault of the simulated rig is printed, reset and
-  // the cut made again, kTimingFaultAttempts cuts at most. Returns the completed run's id, 0 with `why`.
+  // the cut made again, kTimingFaultAttempts cuts at most. Returns the completed run's id, 0 with
+  // `why`.
   std::int64_t cut(const std::string& run_body, std::string& why) const {
     for (int attempt = 0; attempt < kTimingFaultAttempts; ++attempt) {
       if (!prepare(why)) return 0;
@@ -129,7 +143,8 @@ class RigProcesses {
       why = last.dump();
       if (ended && last["state"] == "Done") return run_id;
       if (!ended || !cli::is_timing_fault(last.value("fault", ""))) return 0;
-      std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
+      std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n",
+                  last.value("fault", "").c_str());
       reset_after_timing_fault();
     }
     return 0;
@@ -139,18 +154,25 @@ class RigProcesses {
   // waits for the link and posts again, three times at most, printed as ACCIDENTAL.
   cli::HttpReply post_when_linked(const std::string& path, const std::string& body = "") const {
     cli::HttpReply reply = api().post(path, body);
-    for (int retry = 0; retry < 3 && reply.status == 409 && reply.body.find("DAQ link is down") != std::string::npos; ++retry) {
-      std::printf("ACCIDENTAL | %s was refused while the DAQ link was down for a moment, posted again\n", path.c_str());
+    for (int retry = 0; retry < 3 && reply.status == 409 &&
+                        reply.body.find("DAQ link is down") != std::string::npos;
+         ++retry) {
+      std::printf(
+          "ACCIDENTAL | %s was refused while the DAQ link was down for a moment, posted again\n",
+          path.c_str());
       wait([](const nlohmann::json& st) { return st["interlocks"]["link_ok"] == true; }, 5);
       reply = api().post(path, body);
     }
     return reply;
   }
-  cli::HttpReply post_run(const std::string& run_body) const { return post_when_linked("/api/run", run_body); }
+  cli::HttpReply post_run(const std::string& run_body) const {
+    return post_when_linked("/api/run", run_body);
+  }
   // A cut started and followed until `reached` holds (e.g. mid-cut, for a kill): a timing
   // fault of the simulated rig before that point is printed, reset and the cut started again,
   // kTimingFaultAttempts cuts at most. Returns the run's id, 0 with `why`.
-  std::int64_t cut_until(const std::string& run_body, const std::function<bool(const nlohmann::json&)>& reached,
+  std::int64_t cut_until(const std::string& run_body,
+                         const std::function<bool(const nlohmann::json&)>& reached,
                          std::string& why) const {
     for (int attempt = 0; attempt < kTimingFaultAttempts; ++attempt) {
       if (!prepare(why)) return 0;
@@ -166,8 +188,10 @@ class RigProcesses {
           60);
       why = last.dump();
       if (ended && reached(last)) return run_id;
-      if (!ended || last["state"] != "Fault" || !cli::is_timing_fault(last.value("fault", ""))) return 0;
-      std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n", last.value("fault", "").c_str());
+      if (!ended || last["state"] != "Fault" || !cli::is_timing_fault(last.value("fault", "")))
+        return 0;
+      std::printf("ACCIDENTAL | a timing fault while cutting, reset and cut again: %s\n",
+                  last.value("fault", "").c_str());
       reset_after_timing_fault();
     }
     return 0;
@@ -190,14 +214,16 @@ class RigProcesses {
     };
     if (!wait(settled, 60) || last["state"] != "Ready") return why = last.dump(), false;
     post_when_linked("/api/tare");
-    if (!wait([](const nlohmann::json& s) { return s["tared"] == true; }, 10)) return why = status().dump(), false;
+    if (!wait([](const nlohmann::json& s) { return s["tared"] == true; }, 10))
+      return why = status().dump(), false;
     return true;
   }
 
  private:
   const ScratchDir* dir_;
   std::unique_ptr<cli::ChildProcess> sim_;
-  const int cpu_ = cli::pick_shared_cpu();  // rig-sim and rigd's loop on one CPU: a stalled CPU stops both
+  const int cpu_ =
+      cli::pick_shared_cpu();  // rig-sim and rigd's loop on one CPU: a stalled CPU stops both
   std::unique_ptr<cli::ChildProcess> rigd_;
   std::vector<std::string> rigd_sets_;
   std::vector<std::string> rigd_launcher_;

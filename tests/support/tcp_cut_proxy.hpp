@@ -26,7 +26,8 @@ class TcpCutProxy {
     setsockopt(listen_fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     sockaddr_in addr = loopback(0);
     socklen_t length = sizeof addr;
-    if (bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 || listen(listen_fd_, 64) != 0 ||
+    if (bind(listen_fd_, reinterpret_cast<sockaddr*>(&addr), sizeof addr) != 0 ||
+        listen(listen_fd_, 64) != 0 ||
         getsockname(listen_fd_, reinterpret_cast<sockaddr*>(&addr), &length) != 0) {
       throw std::runtime_error("TcpCutProxy: cannot listen");
     }
@@ -107,7 +108,8 @@ class TcpCutProxy {
         fds.push_back({a, POLLIN, 0});
         fds.push_back({b, POLLIN, 0});
       }
-      if (poll(fds.data(), fds.size(), 50) <= 0 || cut_) continue;  // cut while polling: forward nothing more
+      if (poll(fds.data(), fds.size(), 50) <= 0 || cut_)
+        continue;  // cut while polling: forward nothing more
       std::vector<std::pair<int, int>> alive;
       for (std::size_t i = 0; i < pairs_.size(); ++i) {
         auto [a, b] = pairs_[i];

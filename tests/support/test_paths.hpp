@@ -1,20 +1,27 @@
 #pragma once
 // Where the tests find the project's binaries, sources and a scratch directory.
+#include <unistd.h>
 #include <filesystem>
 #include <string>
-#include <unistd.h>
 
 namespace rig::testing {
 
-inline std::string bin(const std::string& name) { return std::string(RIG_TEST_BIN_DIR) + "/" + name; }
-inline std::string source(const std::string& relative) { return std::string(RIG_SOURCE_DIR) + "/" + relative; }
-inline std::string shared_dir(const std::string& relative) { return std::string(RIG_SOURCE_DIR) + "/../shared/" + relative; }
+inline std::string bin(const std::string& name) {
+  return std::string(RIG_TEST_BIN_DIR) + "/" + name;
+}
+inline std::string source(const std::string& relative) {
+  return std::string(RIG_SOURCE_DIR) + "/" + relative;
+}
+inline std::string shared_dir(const std::string& relative) {
+  return std::string(RIG_SOURCE_DIR) + "/../shared/" + relative;
+}
 
 // A fresh directory per test, removed at the end unless RIG_KEEP_TEST_DIRS is set.
 class ScratchDir {
  public:
   explicit ScratchDir(const std::string& name) {
-    path_ = std::filesystem::temp_directory_path() / ("rigtest-" + name + "-" + std::to_string(getpid()));
+    path_ = std::filesystem::temp_directory_path() /
+            ("rigtest-" + name + "-" + std::to_string(getpid()));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }

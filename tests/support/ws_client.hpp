@@ -19,8 +19,10 @@ struct WsClient {
     std::regex_search(url, m, std::regex(R"(http://([^:]+):(\d+))"));
     auto& socket = boost::beast::get_lowest_layer(ws).socket();
     socket.open(boost::asio::ip::tcp::v4());
-    if (receive_buffer > 0) socket.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer));
-    socket.connect({boost::asio::ip::make_address(m[1].str()), static_cast<unsigned short>(std::stoi(m[2].str()))});
+    if (receive_buffer > 0)
+      socket.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer));
+    socket.connect({boost::asio::ip::make_address(m[1].str()),
+                    static_cast<unsigned short>(std::stoi(m[2].str()))});
     ws.handshake(m[1].str(), "/ws");
   }
   nlohmann::json next() {

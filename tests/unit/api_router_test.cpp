@@ -1,8 +1,8 @@
 // The API router in-process (no sockets): requests whose path or query a client chose
 // freely are judged (4xx), never answered with a 500. Regressions found by fuzz_api_router.
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <nlohmann/json.hpp>
 
 #include <boost/asio/executor_work_guard.hpp>
 #include <boost/asio/io_context.hpp>
@@ -85,11 +85,13 @@ TEST_F(ApiRouterTest, ARunWhoseTextIsNotUtf8IsListedAndOpenedAsValidJson) {
     archive::Archive archive(config_.archive.path);
     run_id = archive.create_run(archive::NewRun{"EYE\xff\xfe-7"});
   }
-  for (const std::string& target : {std::string("/api/runs"), "/api/runs/" + std::to_string(run_id)}) {
+  for (const std::string& target :
+       {std::string("/api/runs"), "/api/runs/" + std::to_string(run_id)}) {
     const Response r = get(target);
     EXPECT_EQ(r.result(), http::status::ok) << target << ": " << r.body();
     EXPECT_TRUE(nlohmann::json::accept(r.body())) << target << ": " << r.body();
-    EXPECT_NE(r.body().find("EYE\xef\xbf\xbd"), std::string::npos) << target << ": " << r.body();  // U+FFFD
+    EXPECT_NE(r.body().find("EYE\xef\xbf\xbd"), std::string::npos)
+        << target << ": " << r.body();  // U+FFFD
   }
 }
 
@@ -99,7 +101,8 @@ TEST_F(ApiRouterTest, ATargetThatDoesNotStartWithASlashIsABadRequestNamingWhy) {
   for (const char* target : {"?!pi/runs", "?", "*", "index.html", "http://rig/index.html"}) {
     const Response r = get(target);
     EXPECT_EQ(r.result(), http::status::bad_request) << target << ": " << r.body();
-    EXPECT_NE(r.body().find("must start with '/'"), std::string::npos) << target << ": " << r.body();
+    EXPECT_NE(r.body().find("must start with '/'"), std::string::npos)
+        << target << ": " << r.body();
   }
 }
 

@@ -23,7 +23,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-model::RunData long_run(std::size_t samples) { return testing::long_run(samples, 1e-4); }  // [s] apart
+model::RunData long_run(std::size_t samples) {
+  return testing::long_run(samples, 1e-4);
+}  // [s] apart
 
 TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneChunk) {
   testing::ScratchDir dir("archive-import-lock");
@@ -62,7 +64,8 @@ TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneC
   importer.join();
   const double import_ms = std::chrono::duration<double, std::milli>(import_took).count();
   const double longest_ms = std::chrono::duration<double, std::milli>(longest_commit).count();
-  std::printf("import %.0f ms, %d recorder commits meanwhile, longest %.1f ms\n", import_ms, commits, longest_ms);
+  std::printf("import %.0f ms, %d recorder commits meanwhile, longest %.1f ms\n", import_ms,
+              commits, longest_ms);
   ASSERT_GT(import_ms, 200.0) << "the import is too short to tell";
   // One chunk (20 ms) and a poll, not the whole import: a single-transaction import holds
   // every commit off until it ends.
@@ -73,7 +76,8 @@ TEST(ArchiveImport, ALongImportNeverHoldsOffTheRecordersCommitsForLongerThanOneC
   EXPECT_EQ(row->outcome, "imported");
   EXPECT_EQ(row->samples, 400'000);
   EXPECT_EQ(recorder.find_run(cut)->samples, commits);
-  for (const auto& [key, value] : recorder.run_meta(imported)) EXPECT_NE(key, "import_process") << value;
+  for (const auto& [key, value] : recorder.run_meta(imported))
+    EXPECT_NE(key, "import_process") << value;
 }
 
 // A `rig import` killed half-way leaves a run 'importing' that nobody will finish: the next
@@ -97,7 +101,8 @@ TEST(ArchiveImport, AHalfImportWhoseProcessWasKilledIsRemovedAndNamedButARunning
     const auto runs = rigd.list_runs();
     if (!runs.empty()) half = runs.back();
   }
-  ASSERT_TRUE(half && half->outcome == "importing" && half->samples > 0) << "the import never started writing samples";
+  ASSERT_TRUE(half && half->outcome == "importing" && half->samples > 0)
+      << "the import never started writing samples";
   EXPECT_TRUE(rigd.remove_abandoned_imports().empty()) << "an import still running was removed";
   EXPECT_TRUE(rigd.find_run(half->id).has_value());
   kill(child, SIGKILL);

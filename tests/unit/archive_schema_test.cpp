@@ -107,7 +107,8 @@ std::vector<std::string> rows_of(Database& db, const std::string& table) {
   std::string columns;
   Statement names = db.prepare("SELECT name FROM pragma_table_info(?)");
   names.bind(1, table);
-  while (names.step()) columns += (columns.empty() ? "quote(" : " || '|' || quote(") + names.text(0) + ")";
+  while (names.step())
+    columns += (columns.empty() ? "quote(" : " || '|' || quote(") + names.text(0) + ")";
   std::vector<std::string> rows;
   Statement all = db.prepare("SELECT " + columns + " FROM " + table + " ORDER BY 1");
   while (all.step()) rows.push_back(all.text(0));
@@ -140,10 +141,12 @@ TEST(ArchiveSchema, AnArchiveAtVersion1GainsOnlyTheFramesTableAndKeepsEveryRunSa
   Archive archive(path);  // the v1 -> v2 step, and no other, runs here
   Database check(path, true);
   EXPECT_EQ(SchemaMigrations::version_of(check), SchemaMigrations::kCurrentVersion);
-  for (const auto& table : tables) EXPECT_EQ(rows_of(check, table), before[table]) << "table " << table << " changed";
+  for (const auto& table : tables)
+    EXPECT_EQ(rows_of(check, table), before[table]) << "table " << table << " changed";
   // The step adds the frames table and leaves every version-1 object as it was.
   std::map<std::string, std::string> schema_after = schema_of(check);
-  ASSERT_EQ(schema_after.count("frames"), 1U) << "the v1 -> v2 step did not create the frames table";
+  ASSERT_EQ(schema_after.count("frames"), 1U)
+      << "the v1 -> v2 step did not create the frames table";
   schema_after.erase("frames");
   EXPECT_EQ(schema_after, schema_before);
   // Through the archive: the runs read back whole and take camera frames.
@@ -188,7 +191,8 @@ TEST(ArchiveSchema, AnArchiveFromANewerRigdIsRefusedWithBothVersionsNamed) {
       const std::string what = e.what();
       EXPECT_NE(what.find(path), std::string::npos) << what;
       EXPECT_NE(what.find("99"), std::string::npos) << what;
-      EXPECT_NE(what.find(std::to_string(SchemaMigrations::kCurrentVersion)), std::string::npos) << what;
+      EXPECT_NE(what.find(std::to_string(SchemaMigrations::kCurrentVersion)), std::string::npos)
+          << what;
     }
   }
 }

@@ -32,7 +32,9 @@ TEST(Archive, ARecordedRunLoadsAsRunCsvDataFromFirstContact) {
   const std::int64_t id = a.create_run(run);
   a.mark_started(id);
   a.begin();
-  for (std::uint64_t i = 0; i < 100; ++i) a.append_sample(sample(id, 500 + i, 19.0 + 0.02 * static_cast<double>(i), 0.001 * static_cast<double>(i)));
+  for (std::uint64_t i = 0; i < 100; ++i)
+    a.append_sample(
+        sample(id, 500 + i, 19.0 + 0.02 * static_cast<double>(i), 0.001 * static_cast<double>(i)));
   a.add_event(id, 10.05, "contact", "20.0");
   a.commit();
   a.finish_run(id, "completed", "");
@@ -86,7 +88,8 @@ TEST(Archive, ARunLeftArmedByACrashIsInterruptedNotCancelled) {
 TEST(Archive, ImportedFilesExportAgainWithTheirMetadataAndChannels) {
   testing::ScratchDir dir("archive-import");
   Archive a(dir.file("a.sqlite"));
-  const model::RunData needle = model::read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const model::RunData needle = model::read_run_csv(
+      testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   const std::int64_t id = a.import_run(needle);
   const model::RunData back = a.load_run(id);
   EXPECT_EQ(back.size(), needle.size());
@@ -152,7 +155,7 @@ TEST(FrameSampleMapper, ATriggerTheCameraMergedIsCountedLostAndDoesNotShiftTheRe
   mapper.on_trigger(100, 10 * kMs);
   EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 12 * kMs), 100);  // learns the offset: host = camera + 9 ms
   mapper.on_trigger(110, 20 * kMs);
-  mapper.on_trigger(120, 30 * kMs);                        // no frame for 110
+  mapper.on_trigger(120, 30 * kMs);  // no frame for 110
   mapper.on_trigger(130, 40 * kMs);
   EXPECT_EQ(mapper.on_frame(1, 21 * kMs, 33 * kMs), 120);
   EXPECT_EQ(mapper.on_frame(2, 31 * kMs, 43 * kMs), 130);
@@ -161,7 +164,8 @@ TEST(FrameSampleMapper, ATriggerTheCameraMergedIsCountedLostAndDoesNotShiftTheRe
 
 TEST(FrameSampleMapper, WithoutCameraTimestampsPairsInOrderAndSkipsTriggersForMissingFrameIds) {
   FrameSampleMapper mapper;
-  for (int k = 0; k < 4; ++k) mapper.on_trigger(100 + 10 * k, static_cast<std::uint64_t>(10 + 10 * k) * kMs);
+  for (int k = 0; k < 4; ++k)
+    mapper.on_trigger(100 + 10 * k, static_cast<std::uint64_t>(10 + 10 * k) * kMs);
   EXPECT_EQ(mapper.on_frame(7, 0, 15 * kMs), 100);
   EXPECT_EQ(mapper.on_frame(9, 0, 45 * kMs), 120);  // id 8 never came: trigger 110 is lost
   EXPECT_EQ(mapper.on_frame(10, 0, 46 * kMs), 130);
@@ -238,7 +242,8 @@ TEST(FrameSampleMapper, AFrameBeforeAnyTriggerIsNotTiedToASample) {
   FrameSampleMapper mapper;
   EXPECT_EQ(mapper.on_frame(0, 1 * kMs, 5 * kMs), std::nullopt);
   mapper.on_trigger(100, 10 * kMs);
-  EXPECT_EQ(mapper.on_frame(1, 2 * kMs, 6 * kMs), std::nullopt);  // arrived before the trigger was raised
+  EXPECT_EQ(mapper.on_frame(1, 2 * kMs, 6 * kMs),
+            std::nullopt);  // arrived before the trigger was raised
   EXPECT_EQ(mapper.untied_frames(), 2U);
 }
 

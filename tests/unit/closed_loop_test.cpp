@@ -14,7 +14,8 @@ using rt::CommandResult;
 using rt::RunState;
 
 bool in_state(sim::SimulatedRig& rig, RunState state, double timeout_s) {
-  return rig.run_until([state](const rt::StatusSnapshot& st) { return st.state == state; }, timeout_s);
+  return rig.run_until([state](const rt::StatusSnapshot& st) { return st.state == state; },
+                       timeout_s);
 }
 
 TEST(ClosedLoop, HomingFindsTheHomeSwitchAndParksTheCarriage) {
@@ -90,7 +91,9 @@ TEST(ClosedLoop, ACutKeepsItsVelocityThroughStallsShorterThanTheDaqWatchdog) {
   params.depth_mm = 10.0;
   ASSERT_EQ(rig.command(CommandKind::kArm, params), CommandResult::kAccepted);
   int stalls = 0;
-  for (int cycle = 0; cycle < 60000 && rig.status().state != RunState::kDone && rig.status().state != RunState::kFault; ++cycle) {
+  for (int cycle = 0; cycle < 60000 && rig.status().state != RunState::kDone &&
+                      rig.status().state != RunState::kFault;
+       ++cycle) {
     if (cycle % 40 == 0 && rig.status().state == RunState::kCutting) {
       rig.clock().add_wakeup_delay(13'000'000);  // [ns] held off the CPU for 13 ms
       ++stalls;
@@ -111,7 +114,8 @@ TEST(ClosedLoop, ACutKeepsItsVelocityThroughStallsShorterThanTheDaqWatchdog) {
   }
   ASSERT_NE(first, nullptr);
   ASSERT_NE(last, nullptr);
-  const double velocity = (last->position_mm - first->position_mm) / (last->t_s - first->t_s);  // [mm/s]
+  const double velocity =
+      (last->position_mm - first->position_mm) / (last->t_s - first->t_s);  // [mm/s]
   EXPECT_NEAR(velocity, 2.0, 0.02);
 }
 
@@ -128,7 +132,8 @@ TEST(ClosedLoop, TwoCommandsTakenInOneCycleAreEachAnsweredInTheStatus) {
   rig.loop().run_for(rig.loop().period_ns());
   const rt::StatusSnapshot st = rig.status();
   EXPECT_EQ(st.last_command_id, 502U);
-  ASSERT_TRUE(st.answer_to(501).has_value()) << "the first client's answer was lost: it would wait for a 504";
+  ASSERT_TRUE(st.answer_to(501).has_value())
+      << "the first client's answer was lost: it would wait for a 504";
   EXPECT_EQ(*st.answer_to(501), CommandResult::kAccepted);
   ASSERT_TRUE(st.answer_to(502).has_value());
   EXPECT_EQ(*st.answer_to(502), CommandResult::kAccepted);

@@ -80,8 +80,10 @@ TEST(Config, ADaqWatchdogOfZeroIsRefused) {
 
 TEST(Config, TheLostDaqWritesLimitIsThreeOnTheRigTenOnTheSimulatedRigAndCanBeSet) {
   EXPECT_EQ(load_rigd_config(testing::source("config/rigd.toml")).loop.safety.max_failed_writes, 3);
-  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml")).loop.safety.max_failed_writes, 10);
-  const RigdConfig c = load_rigd_config(testing::source("config/rigd.sim.toml"), {"safety.max_failed_writes=12"});
+  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml")).loop.safety.max_failed_writes,
+            10);
+  const RigdConfig c =
+      load_rigd_config(testing::source("config/rigd.sim.toml"), {"safety.max_failed_writes=12"});
   EXPECT_EQ(c.loop.safety.max_failed_writes, 12);
 }
 
@@ -91,23 +93,32 @@ TEST(Config, ABadLostDaqWritesLimitIsRefusedNamingTheKey) {
   EXPECT_NE(zero.find("'safety.max_failed_writes'"), std::string::npos) << zero;
   EXPECT_NE(zero.find("out of range [1, 1000]"), std::string::npos) << zero;
   const std::string text = message_for("[safety]\nmax_failed_writes = \"3\"\n");
-  EXPECT_NE(text.find("'safety.max_failed_writes': expected an integer"), std::string::npos) << text;
+  EXPECT_NE(text.find("'safety.max_failed_writes': expected an integer"), std::string::npos)
+      << text;
   const std::string fraction = message_for("[safety]\nmax_failed_writes = 2.5\n");
   EXPECT_NE(fraction.find("'safety.max_failed_writes'"), std::string::npos) << fraction;
   // Not judged before the DAQ's own watchdog stops the motor: 5 periods of 1 ms vs 5 ms.
   const std::string slow = message_for("[daq]\nwatchdog_ms = 5\n[safety]\nmax_failed_writes = 5\n");
-  EXPECT_NE(slow.find("key 'safety.max_failed_writes' (5 loop periods) must be shorter than 'daq.watchdog_ms' (5 ms)"),
-            std::string::npos) << slow;
+  EXPECT_NE(slow.find("key 'safety.max_failed_writes' (5 loop periods) must be shorter than "
+                      "'daq.watchdog_ms' (5 ms)"),
+            std::string::npos)
+      << slow;
   EXPECT_EQ(message_for("[daq]\nwatchdog_ms = 5\n[safety]\nmax_failed_writes = 4\n"), "no error");
-  EXPECT_NE(message_for("", {"safety.max_failed_writes=-1"}).find("--set safety.max_failed_writes=-1"), std::string::npos);
+  EXPECT_NE(
+      message_for("", {"safety.max_failed_writes=-1"}).find("--set safety.max_failed_writes=-1"),
+      std::string::npos);
 }
 
 TEST(Config, TheRecorderRunsBelowTheLoopOrWithNormalScheduling) {
   EXPECT_EQ(load_rigd_config(testing::source("config/rigd.toml")).archive.recorder_priority, 60);
-  const std::string above = message_for("[loop]\npriority = 50\n[archive]\nrecorder_priority = 50\n");
-  EXPECT_NE(above.find("key 'archive.recorder_priority' (50) must be below 'loop.priority' (50)"), std::string::npos) << above;
+  const std::string above =
+      message_for("[loop]\npriority = 50\n[archive]\nrecorder_priority = 50\n");
+  EXPECT_NE(above.find("key 'archive.recorder_priority' (50) must be below 'loop.priority' (50)"),
+            std::string::npos)
+      << above;
   EXPECT_EQ(message_for("[loop]\npriority = 50\n[archive]\nrecorder_priority = 0\n"), "no error");
-  EXPECT_EQ(message_for("[loop]\npriority = 0\n[archive]\nrecorder_priority = 60\n"), "no error") << "no real-time loop: not asked";
+  EXPECT_EQ(message_for("[loop]\npriority = 0\n[archive]\nrecorder_priority = 60\n"), "no error")
+      << "no real-time loop: not asked";
   const std::string range = message_for("[archive]\nrecorder_priority = 99\n");
   EXPECT_NE(range.find("'archive.recorder_priority'"), std::string::npos) << range;
   EXPECT_NE(range.find("rigd.toml:2"), std::string::npos) << range;
@@ -115,22 +126,29 @@ TEST(Config, TheRecorderRunsBelowTheLoopOrWithNormalScheduling) {
 
 TEST(Config, AnAllowedOriginThatIsNotAnOriginIsRefused) {
   const std::string m = message_for("[api]\nallowed_origins = \"http://rig07:8080, rig08:8080\"\n");
-  EXPECT_NE(m.find("key 'api.allowed_origins': 'rig08:8080' is not an origin"), std::string::npos) << m;
-  EXPECT_EQ(message_for("[api]\nallowed_origins = \"http://rig07:8080, https://rig08.lab:8443\"\n"), "no error");
+  EXPECT_NE(m.find("key 'api.allowed_origins': 'rig08:8080' is not an origin"), std::string::npos)
+      << m;
+  EXPECT_EQ(message_for("[api]\nallowed_origins = \"http://rig07:8080, https://rig08.lab:8443\"\n"),
+            "no error");
 }
 
 TEST(Config, ThePerAddressConnectionCapDefaultsToHalfTheConnectionsAndIsRangeChecked) {
   const RigdConfig shipped = load_rigd_config(testing::source("config/rigd.toml"));
   EXPECT_EQ(shipped.api.max_clients, 64);
   EXPECT_EQ(shipped.api.max_clients_per_address, 32);
-  EXPECT_EQ(load_rigd_config(testing::source("config/rigd.sim.toml"), {"api.max_clients_per_address=4"}).api.max_clients_per_address, 4);
+  EXPECT_EQ(
+      load_rigd_config(testing::source("config/rigd.sim.toml"), {"api.max_clients_per_address=4"})
+          .api.max_clients_per_address,
+      4);
   const std::string zero = message_for("[api]\nmax_clients_per_address = 0\n");
   EXPECT_NE(zero.find("rigd.toml:2"), std::string::npos) << zero;
   EXPECT_NE(zero.find("'api.max_clients_per_address'"), std::string::npos) << zero;
   EXPECT_NE(zero.find("out of range [1, 1024]"), std::string::npos) << zero;
   const std::string text = message_for("[api]\nmax_clients_per_address = \"8\"\n");
-  EXPECT_NE(text.find("'api.max_clients_per_address': expected an integer"), std::string::npos) << text;
-  EXPECT_NE(describe_config_keys().find("api.max_clients_per_address (an integer in [1, 1024])"), std::string::npos);
+  EXPECT_NE(text.find("'api.max_clients_per_address': expected an integer"), std::string::npos)
+      << text;
+  EXPECT_NE(describe_config_keys().find("api.max_clients_per_address (an integer in [1, 1024])"),
+            std::string::npos);
 }
 
 TEST(Config, AResponseTimeoutLongerThanTheLoopPeriodIsRefused) {
@@ -153,9 +171,11 @@ TEST(Config, RelativePathsResolveAgainstTheConfigFile) {
 
 TEST(Config, EveryKeyIsDocumentedWithItsRange) {
   const std::string keys = describe_config_keys();
-  EXPECT_NE(keys.find("loop.rate_hz (a number in [1000, 10000]): control and sampling rate [Hz]"), std::string::npos);
+  EXPECT_NE(keys.find("loop.rate_hz (a number in [1000, 10000]): control and sampling rate [Hz]"),
+            std::string::npos);
   EXPECT_NE(keys.find("safety.force_limit_N"), std::string::npos);
-  EXPECT_NE(keys.find("safety.max_failed_writes (an integer in [1, 1000])"), std::string::npos) << keys;
+  EXPECT_NE(keys.find("safety.max_failed_writes (an integer in [1, 1000])"), std::string::npos)
+      << keys;
 }
 
 }  // namespace

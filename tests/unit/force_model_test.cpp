@@ -16,10 +16,11 @@ TEST(ForceModel, TheInterpretedModelIsContinuousAndPeaksAtThePuncture) {
   const ForceModel m = ForceModel::load(testing::source("model/params/paper-interpreted.toml"));
   EXPECT_DOUBLE_EQ(m.baseline(0.5, 15), 0.0066 * 0.5);
   EXPECT_NEAR(m.baseline(3.55, 15), 0.0066 * 0.75 + 0.078 * 2.8, 1e-9);  // the peak
-  EXPECT_LT(m.baseline(3.7, 15), m.baseline(3.55, 15) - 0.03);          // the drop
+  EXPECT_LT(m.baseline(3.7, 15), m.baseline(3.55, 15) - 0.03);           // the drop
   EXPECT_DOUBLE_EQ(m.baseline(9.35, 15), 0.0);
   EXPECT_DOUBLE_EQ(m.baseline(12.0, 15), 0.0);
-  for (const auto& f : lint_model(m)) EXPECT_NE(f.severity, LintFinding::Severity::kError) << f.what;
+  for (const auto& f : lint_model(m))
+    EXPECT_NE(f.severity, LintFinding::Severity::kError) << f.what;
 }
 
 TEST(ForceModel, XpiAndXpfInterpolateInIopAndExtrapolationIsFlagged) {
@@ -63,7 +64,9 @@ TEST(ModelFile, AnUnknownKeyNamesFileLineAndKey) {
     ForceModel::load(dir.file("m.toml"));
     FAIL();
   } catch (const ModelFileError& e) {
-    EXPECT_NE(std::string(e.what()).find("m.toml:5: key 'parameters.bb': unknown key"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("m.toml:5: key 'parameters.bb': unknown key"),
+              std::string::npos)
+        << e.what();
   }
 }
 
@@ -72,7 +75,9 @@ TEST(ModelFile, AnUnknownKeyNamesFileLineAndKey) {
 TEST(ModelFile, ADeviceADirectoryOrAMissingFileIsRefusedBeforeReadingNamingThePath) {
   testing::ScratchDir dir("modelfile-kind");
   const std::vector<std::pair<std::string, std::string>> cases = {
-      {"/dev/zero", "not a regular file"}, {dir.path().string(), "not a regular file"}, {dir.file("none.toml"), "no such model file"}};
+      {"/dev/zero", "not a regular file"},
+      {dir.path().string(), "not a regular file"},
+      {dir.file("none.toml"), "no such model file"}};
   for (const auto& [path, why] : cases) {
     try {
       ForceModel::load(path);
@@ -87,19 +92,22 @@ TEST(ModelFile, ADeviceADirectoryOrAMissingFileIsRefusedBeforeReadingNamingThePa
 // 0.01 mm steps past the timeout; an infinite depth was read as a number.
 TEST(ModelFile, ADepthNoEyeHasOrANonFiniteTableValueIsRefusedNamingTheKey) {
   testing::ScratchDir dir("modelfile-depth");
-  const std::string table = "[model]\nname = \"x\"\n[table]\niop_mmHg = [15.0, 18.0]\nx_pi_mm = [3.5, 3.8]\n";
+  const std::string table =
+      "[model]\nname = \"x\"\n[table]\niop_mmHg = [15.0, 18.0]\nx_pi_mm = [3.5, 3.8]\n";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {table + "x_pf_mm = [9.0, 1e9]\n", "key 'table.x_pf_mm': a depth outside 0..100 mm"},
       {table + "x_pf_mm = [9.0, inf]\n", "key 'table.x_pf_mm': not a finite number"},
       {table + "x_pf_mm = [9.0, -1.0]\n", "key 'table.x_pf_mm': a depth outside 0..100 mm"},
-      {table + "x_pf_mm = [9.0, 9.5]\n[parameters]\nx_pf_shift = -500.0\n", "key 'parameters.x_pf_shift': a shift beyond +-100 mm"}};
+      {table + "x_pf_mm = [9.0, 9.5]\n[parameters]\nx_pf_shift = -500.0\n",
+       "key 'parameters.x_pf_shift': a shift beyond +-100 mm"}};
   for (const auto& [text, why] : cases) {
     std::ofstream(dir.file("m.toml"), std::ios::trunc) << text;
     try {
       ForceModel::load(dir.file("m.toml"));
       ADD_FAILURE() << text << " was loaded";
     } catch (const ModelFileError& e) {
-      EXPECT_NE(std::string(e.what()).find(dir.file("m.toml") + ":"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(dir.file("m.toml") + ":"), std::string::npos)
+          << e.what();
       EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
     }
   }
@@ -107,11 +115,13 @@ TEST(ModelFile, ADepthNoEyeHasOrANonFiniteTableValueIsRefusedNamingTheKey) {
 
 TEST(ModelLint, ANegativeForceIsScannedToTheEndOfAModelOneHundredMillimetresDeep) {
   ForceModel m = ForceModel::load(testing::source("model/params/paper-printed.toml"));
-  m.table.x_pf_mm.assign(m.table.x_pf_mm.size(), 100.0);  // the printed unloading piece runs on below zero
+  m.table.x_pf_mm.assign(m.table.x_pf_mm.size(),
+                         100.0);  // the printed unloading piece runs on below zero
   double deepest_mm = 0.0;
   for (const auto& f : lint_model(m)) {
     double from_mm = 0.0, to_mm = 0.0;
-    if (std::sscanf(f.what.c_str(), "negative force from x = %lf to %lf mm", &from_mm, &to_mm) == 2) deepest_mm = std::max(deepest_mm, to_mm);
+    if (std::sscanf(f.what.c_str(), "negative force from x = %lf to %lf mm", &from_mm, &to_mm) == 2)
+      deepest_mm = std::max(deepest_mm, to_mm);
   }
   EXPECT_GT(deepest_mm, 99.9);
 }

@@ -8,8 +8,8 @@
 
 #include "gpio/gpio_digital_io.hpp"
 #include "gpio/input_debouncer.hpp"
-#include "sim_gpio_line_bank.hpp"
 #include "rig/drivers/loop_clock.hpp"
+#include "sim_gpio_line_bank.hpp"
 
 namespace rig::drivers {
 namespace {
@@ -20,7 +20,10 @@ constexpr std::int64_t kMs = 1'000'000;
 class ManualClock final : public LoopClock {
  public:
   std::int64_t now_ns() noexcept override { return now_; }
-  void sleep_until(std::int64_t deadline_ns) noexcept override { now_ = std::max(now_, deadline_ns); }
+  void sleep_until(std::int64_t deadline_ns) noexcept override {
+    now_ = std::max(now_, deadline_ns);
+  }
+
  private:
   std::int64_t now_ = 1'000'000'000;
 };
@@ -47,9 +50,9 @@ TEST(InputDebouncer, IgnoresContactBounceOnRelease) {
   const std::array<bool, 1> pressed{true};
   d.reset(pressed, 0);
   d.on_edge(0, false, 10 * kMs);
-  d.on_edge(0, true, 10 * kMs + 300'000);   // bounce
+  d.on_edge(0, true, 10 * kMs + 300'000);  // bounce
   d.on_edge(0, false, 10 * kMs + 600'000);
-  EXPECT_TRUE(d.read(0, 12 * kMs));         // 1.4 ms since the last bounce
+  EXPECT_TRUE(d.read(0, 12 * kMs));  // 1.4 ms since the last bounce
   EXPECT_FALSE(d.read(0, 13 * kMs));
 }
 
@@ -83,7 +86,7 @@ TEST(InputDebouncer, ABounceTheKernelLabelledInactiveTwiceRestartsTheReleaseTime
   d.reset(pressed, 0);
   d.on_edge(0, false, 10 * kMs);
   d.on_edge(0, false, 10 * kMs + 600'000);  // bounce, labelled after it ended
-  EXPECT_TRUE(d.read(0, 12 * kMs));          // the bounce's latch
+  EXPECT_TRUE(d.read(0, 12 * kMs));         // the bounce's latch
   EXPECT_TRUE(d.read(0, 12 * kMs + 300'000)) << "1.7 ms since the bounce: still pressed";
   EXPECT_FALSE(d.read(0, 13 * kMs));
 }
@@ -133,7 +136,8 @@ TEST_F(GpioFixture, AnEstopEdgeCutsMotorEnableAtTheNextRead_WhateverTheLoopAsksF
   EXPECT_TRUE(in.estop);
   EXPECT_FALSE(bank->output(kMotorEnableOutput)) << "read() itself drops motor enable";
   io->write(DigitalOutputs{true, false});
-  EXPECT_FALSE(bank->output(kMotorEnableOutput)) << "the loop cannot re-enable while the e-stop is pressed";
+  EXPECT_FALSE(bank->output(kMotorEnableOutput))
+      << "the loop cannot re-enable while the e-stop is pressed";
   bank->set_input(kEstopInput, false, clock.now_ns());
   clock.sleep_until(clock.now_ns() + 3 * kMs);
   io->read(in);

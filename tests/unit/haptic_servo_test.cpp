@@ -17,14 +17,18 @@ namespace {
 class ConstantSource final : public ForceSource {
  public:
   explicit ConstantSource(double force_N) : force_N_(force_N) {}
-  double force_N(double depth_mm, double, double) const noexcept override { return depth_mm > 0.0 ? force_N_ : 0.0; }
+  double force_N(double depth_mm, double, double) const noexcept override {
+    return depth_mm > 0.0 ? force_N_ : 0.0;
+  }
   const char* describe() const noexcept override { return "constant"; }
   double force_N_;
 };
 
 class StiffSource final : public ForceSource {
  public:
-  double force_N(double depth_mm, double, double) const noexcept override { return depth_mm > 0.0 ? 2.0 * depth_mm : 0.0; }
+  double force_N(double depth_mm, double, double) const noexcept override {
+    return depth_mm > 0.0 ? 2.0 * depth_mm : 0.0;
+  }
   const char* describe() const noexcept override { return "stiff spring"; }
 };
 
@@ -40,7 +44,9 @@ ServoSettings plain_settings() {
 }
 
 // Position [mm] for a tip `depth` into the eye along the default axis (-z).
-drivers::Vec3 at_depth(double depth_mm) { return {0.0, 0.0, -depth_mm}; }
+drivers::Vec3 at_depth(double depth_mm) {
+  return {0.0, 0.0, -depth_mm};
+}
 
 // Runs ticks at 1 kHz with the tip at `depth`, returns the last axial force (+ resists).
 double hold_at(ServoLoop& servo, double depth_mm, int ticks, double& t_s) {
@@ -65,7 +71,8 @@ TEST(EncoderEstimator, RecoversAConstantVelocityBetweenCountsToAFractionOfOneCou
 TEST(EncoderEstimator, StopsExtrapolatingWhenTheHandReversesAndNeverLeavesTheCurrentCell) {
   EncoderEstimator estimator(0.055, 0.0);
   double t = 0.0;
-  for (int k = 0; k < 1000; ++k, t += 0.001) estimator.update(std::round(2.0 * t / 0.055) * 0.055, t);
+  for (int k = 0; k < 1000; ++k, t += 0.001)
+    estimator.update(std::round(2.0 * t / 0.055) * 0.055, t);
   const double top = 2.0 * t;
   for (int k = 0; k < 1000; ++k, t += 0.001) {
     const double truth = top - 2.0 * (k * 0.001);
@@ -119,8 +126,9 @@ TEST(ServoLoop, LimitsHowFastTheForceMayChange) {
 }
 
 TEST(ServoLoop, RendersZeroForceForANanOrInfiniteSourceAndCountsIt) {
-  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
-                           -std::numeric_limits<double>::infinity()}) {
+  for (const double bad :
+       {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+        -std::numeric_limits<double>::infinity()}) {
     ConstantSource source(bad);
     ServoLoop servo(plain_settings(), source, kOmni);
     double t = 0.0;
@@ -181,7 +189,8 @@ TEST(CheckRenderable, RefusesASourceStifferThanTheDeviceNamingBothStiffnesses) {
     FAIL() << "a 2 N/mm spring passed on a 0.7 N/mm device";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("2.00 N/mm"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find("HD_NOMINAL_MAX_STIFFNESS"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("HD_NOMINAL_MAX_STIFFNESS"), std::string::npos)
+        << e.what();
   }
   drivers::HapticLimits stiff_device = kOmni;
   stiff_device.max_stiffness_N_per_mm = 3.0;

@@ -21,14 +21,16 @@ class InterlockTest : public ::testing::Test {
   void SetUp() override {
     rig_.physics().set_watchdog_ms(1);  // the DAQ's own watchdog: one loop period
     rig_.command(CommandKind::kHome);
-    ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+    ASSERT_TRUE(rig_.run_until(
+        [](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
     rig_.command(CommandKind::kTare);
     ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
     rt::RunParams params;
     params.run_id = 42;
     ASSERT_EQ(rig_.command(CommandKind::kArm, params), rt::CommandResult::kAccepted);
     const double surface = rig_.physics().params().tissue.surface_mm;
-    ASSERT_TRUE(rig_.run_until([surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 5.0; }, 30));
+    ASSERT_TRUE(rig_.run_until(
+        [surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 5.0; }, 30));
     ASSERT_TRUE(rig_.physics().truth().motor_powered);
     samples_.clear();
     events_.clear();
@@ -62,7 +64,8 @@ class InterlockTest : public ::testing::Test {
     EXPECT_EQ(last.run_id, 42);
     // The run keeps the cycle that ended it: the fault cycle's own sample, motor at 0 V.
     EXPECT_EQ(last.t_s, ended->t_s) << "the run's last sample is not the cycle that ended it";
-    EXPECT_TRUE(last.state == RunState::kFault || last.state == RunState::kEStop) << rt::to_string(last.state);
+    EXPECT_TRUE(last.state == RunState::kFault || last.state == RunState::kEStop)
+        << rt::to_string(last.state);
     EXPECT_EQ(last.motor_volts, 0.0) << "the fault cycle commands 0 V";
   }
 
@@ -126,7 +129,8 @@ TEST_F(InterlockTest, AnIopLeakDuringTheCutFaultsTheRunOnceThePressureHasLeftIts
   double left_band_at = -1.0;
   for (int ms = 0; ms < 3000 && rig_.physics().truth().motor_powered; ++ms) {
     rig_.advance(kPeriod_s);
-    if (left_band_at < 0.0 && std::abs(rig_.status().iop_mmHg - 15.0) > 5.0) left_band_at = rig_.physics().time_s();
+    if (left_band_at < 0.0 && std::abs(rig_.status().iop_mmHg - 15.0) > 5.0)
+      left_band_at = rig_.physics().time_s();
   }
   rig_.advance(0.01);  // the physics notes the motor-off time on its next step
   rig_.drain(samples_, events_);
@@ -136,15 +140,18 @@ TEST_F(InterlockTest, AnIopLeakDuringTheCutFaultsTheRunOnceThePressureHasLeftIts
   ASSERT_FALSE(truth.motor_powered);
   const double delay = truth.motor_off_time_s - left_band_at;
   std::cout << "motor off " << delay * 1e3 << " ms after the IOP left its band\n";
-  EXPECT_GE(delay, 0.1 - 2 * kPeriod_s) << "iop.fault_after_ms (100 ms) must pass first: a pump step is not a leak";
+  EXPECT_GE(delay, 0.1 - 2 * kPeriod_s)
+      << "iop.fault_after_ms (100 ms) must pass first: a pump step is not a leak";
   EXPECT_LE(delay, 0.1 + 0.02) << "noise at the band edge may restart the count for a few cycles";
   expect_run_kept_with(FaultCode::kIopOutOfRange);
 }
 
 TEST_F(InterlockTest, AShortIopDipBelowFaultAfterMsDoesNotFaultTheRun) {
   rig_.physics().faults().iop_leak_fraction = 0.9;
-  for (int ms = 0; ms < 3000 && std::abs(rig_.status().iop_mmHg - 15.0) <= 5.0; ++ms) rig_.advance(kPeriod_s);
-  ASSERT_GT(std::abs(rig_.status().iop_mmHg - 15.0), 5.0) << "the leak never took the IOP out of its band";
+  for (int ms = 0; ms < 3000 && std::abs(rig_.status().iop_mmHg - 15.0) <= 5.0; ++ms)
+    rig_.advance(kPeriod_s);
+  ASSERT_GT(std::abs(rig_.status().iop_mmHg - 15.0), 5.0)
+      << "the leak never took the IOP out of its band";
   rig_.advance(0.03);  // 30 ms outside the band, then the leak closes
   rig_.physics().faults().iop_leak_fraction = 0.0;
   rig_.advance(1.0);
@@ -225,7 +232,8 @@ TEST_F(InterlockTest, StopMidCutStopsTheMotorAndEndsTheRunAsStopped) {
   EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
   EXPECT_EQ(rig_.status().state, RunState::kDone);
   bool stopped = false;
-  for (const auto& e : events_) stopped = stopped || (e.kind == rt::EventKind::kRunEnded && e.value > 0.5);
+  for (const auto& e : events_)
+    stopped = stopped || (e.kind == rt::EventKind::kRunEnded && e.value > 0.5);
   EXPECT_TRUE(stopped);
   // The blade is still in the eye: a new run needs homing first.
   EXPECT_EQ(rig_.command(CommandKind::kArm, rt::RunParams{}), rt::CommandResult::kNotAtPark);
@@ -233,10 +241,11 @@ TEST_F(InterlockTest, StopMidCutStopsTheMotorAndEndsTheRunAsStopped) {
 
 // Control over the DAQ's outputs lost while it still answers reads (docs/faults.md).
 TEST_F(InterlockTest, RefusedOutputWritesFaultTheRunBeforeTheDaqWatchdogAndItStopsTheMotor) {
-  rig_.physics().set_watchdog_ms(5);  // the shipped setting: rigd must fault before it trips
+  rig_.physics().set_watchdog_ms(5);         // the shipped setting: rigd must fault before it trips
   const double t = rig_.physics().time_s();  // the last accepted write
   rig_.physics().faults().writes_rejected = true;
-  EXPECT_LE(motor_off_delay(t), 0.005 + 2 * kPhysicsStep_s) << "the DAQ's watchdog, as rigd cannot write";
+  EXPECT_LE(motor_off_delay(t), 0.005 + 2 * kPhysicsStep_s)
+      << "the DAQ's watchdog, as rigd cannot write";
   EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWriteFailed);
   EXPECT_GE(rig_.channels().counters.write_failures.load(), 2U);
   expect_run_kept_with(FaultCode::kDaqWriteFailed);
@@ -263,7 +272,8 @@ TEST_F(InterlockTest, ADaqWatchdogTripBetweenReadAndWriteIsStillSeenAndTheMotorS
   drivers::DigitalOutputs enabled;
   enabled.motor_enable = true;
   rig_.physics().write_outputs(motor_on, enabled);
-  EXPECT_FALSE(rig_.physics().truth().motor_powered) << "a write with the motor on re-armed the tripped DAQ";
+  EXPECT_FALSE(rig_.physics().truth().motor_powered)
+      << "a write with the motor on re-armed the tripped DAQ";
   EXPECT_LE(motor_off_delay(t), kPeriod_s + kPhysicsStep_s);
   EXPECT_EQ(rig_.status().fault, FaultCode::kDaqWatchdogTripped);
   expect_run_kept_with(FaultCode::kDaqWatchdogTripped);
@@ -319,7 +329,8 @@ TEST(HomingTest, ABrokenHomeSwitchFailsHomingWhenTheCarriageStopsAtItsHardStop) 
   const double hard_stop_mm = rig.physics().params().motor.travel_min_mm;
   for (int ms = 0; ms < 20000 && rig.status().state == RunState::kHoming; ++ms) {
     rig.advance(kPeriod_s);
-    if (stopped_at < 0.0 && rig.physics().truth().carriage_mm <= hard_stop_mm + 1e-9) stopped_at = rig.physics().time_s();
+    if (stopped_at < 0.0 && rig.physics().truth().carriage_mm <= hard_stop_mm + 1e-9)
+      stopped_at = rig.physics().time_s();
   }
   rig.advance(0.01);
   ASSERT_GE(stopped_at, 0.0) << "the carriage never reached its hard stop";
@@ -328,7 +339,8 @@ TEST(HomingTest, ABrokenHomeSwitchFailsHomingWhenTheCarriageStopsAtItsHardStop) 
   EXPECT_FALSE(rig.status().homed);
   const sim::RigTruth truth = rig.physics().truth();
   ASSERT_FALSE(truth.motor_powered);
-  // The reference runs on at motion.homing_velocity_mm_s (4 mm/s): 1 mm of following error in 0.25 s.
+  // The reference runs on at motion.homing_velocity_mm_s (4 mm/s): 1 mm of following error in 0.25
+  // s.
   const double delay = truth.motor_off_time_s - stopped_at;
   std::cout << "motor off " << delay * 1e3 << " ms after the carriage stopped\n";
   EXPECT_LE(delay, 0.25 + 0.05);

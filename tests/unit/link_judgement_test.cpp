@@ -23,14 +23,16 @@ class LinkJudgement : public ::testing::Test {
  protected:
   void SetUp() override {
     rig_.command(CommandKind::kHome);
-    ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+    ASSERT_TRUE(rig_.run_until(
+        [](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
     rig_.command(CommandKind::kTare);
     ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
     rt::RunParams params;
     params.run_id = 7;
     ASSERT_EQ(rig_.command(CommandKind::kArm, params), rt::CommandResult::kAccepted);
     const double surface = rig_.physics().params().tissue.surface_mm;
-    ASSERT_TRUE(rig_.run_until([surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 2.0; }, 30));
+    ASSERT_TRUE(rig_.run_until(
+        [surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 2.0; }, 30));
   }
 
   static rt::LoopSettings settings() {
@@ -63,7 +65,8 @@ TEST_F(LinkJudgement, ASilentDaqFaultsTheRunOnceNoValidReplyCameForTheConfigured
 
 TEST_F(LinkJudgement, FailedReadsInCyclesRigdWokeLateForAreCountedApartAndDoNotFaultTheRun) {
   rig_.daq().inject(IoStatus::kTimeout);
-  for (int i = 0; i < 8; ++i) cycle(kLateWake_ns);  // 8 late cycles: twice the limit, below four times
+  for (int i = 0; i < 8; ++i)
+    cycle(kLateWake_ns);  // 8 late cycles: twice the limit, below four times
   rig_.daq().inject(IoStatus::kOk);
   rig_.advance(0.01);
   EXPECT_EQ(rig_.status().state, RunState::kCutting) << "rigd's own lateness is not a lost link";
@@ -85,7 +88,8 @@ TEST_F(LinkJudgement, ASilentDaqWhoseReadsRunToTheirTimeoutStillFaultsTheRunAtTh
   EXPECT_LE(st.fault_value, kLinkLostAfter_ms + 1.0) << "detected within a period of the limit";
 }
 
-TEST_F(LinkJudgement, ALoopLateAgainAndAgainStillFaultsADeadLinkAfterFourTimesAsManyFailedRequests) {
+TEST_F(LinkJudgement,
+       ALoopLateAgainAndAgainStillFaultsADeadLinkAfterFourTimesAsManyFailedRequests) {
   rig_.daq().inject(IoStatus::kLinkDown);
   int cycles = 0;
   while (rig_.status().state != RunState::kFault && cycles < 100) {
@@ -96,7 +100,8 @@ TEST_F(LinkJudgement, ALoopLateAgainAndAgainStillFaultsADeadLinkAfterFourTimesAs
   EXPECT_EQ(st.fault, FaultCode::kLinkLost);
   EXPECT_EQ(cycles, 16) << "4 x 4 ms at 1 kHz";
   EXPECT_GE(st.fault_value, 4.0 * kLinkLostAfter_ms);
-  EXPECT_LE(st.fault_value, 4.0 * kLinkLostAfter_ms + 2.0) << "late cycles still come about 1 ms apart";
+  EXPECT_LE(st.fault_value, 4.0 * kLinkLostAfter_ms + 2.0)
+      << "late cycles still come about 1 ms apart";
 }
 
 TEST(LinkAtRest, ATareOrAHomingAskedWhileAReplyIsMissingIsTakenButNotWhileTheDaqIsSilent) {
@@ -104,15 +109,18 @@ TEST(LinkAtRest, ATareOrAHomingAskedWhileAReplyIsMissingIsTakenButNotWhileTheDaq
   loop.safety.link_lost_after_ms = 10.0;
   sim::SimulatedRig rig{sim::PhysicsParams{}, {}, loop};
   rig.command(CommandKind::kHome);
-  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+  ASSERT_TRUE(
+      rig.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
   rig.daq().inject(IoStatus::kTimeout);  // replies lost while the tare is asked
   rig.advance(0.003);
-  EXPECT_EQ(rig.command(CommandKind::kTare), rt::CommandResult::kAccepted) << "a tare does not move the carriage";
+  EXPECT_EQ(rig.command(CommandKind::kTare), rt::CommandResult::kAccepted)
+      << "a tare does not move the carriage";
   rig.daq().inject(IoStatus::kOk);
   ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
   rig.advance(0.01);  // the offset applies from the cycle after the tare ends
   EXPECT_EQ(rig.status().state, RunState::kReady);
-  EXPECT_LT(std::abs(rig.status().force_N), 0.01) << "the tare took the resting load cell's reading [N]";
+  EXPECT_LT(std::abs(rig.status().force_N), 0.01)
+      << "the tare took the resting load cell's reading [N]";
   // Homing moves the carriage: a lone reply lost is no reason to refuse it, a silent DAQ is.
   rig.daq().inject(IoStatus::kTimeout);
   rig.advance(0.001);
@@ -124,10 +132,12 @@ TEST(LinkAtRest, ATareOrAHomingAskedWhileAReplyIsMissingIsTakenButNotWhileTheDaq
   ASSERT_EQ(rig.status().state, RunState::kHoming);
   rig.daq().inject(IoStatus::kOk);
   rig.command(CommandKind::kStop);
-  ASSERT_TRUE(rig.run_until([](const rt::StatusSnapshot& s) { return s.state != RunState::kHoming; }, 5));
+  ASSERT_TRUE(
+      rig.run_until([](const rt::StatusSnapshot& s) { return s.state != RunState::kHoming; }, 5));
   rig.daq().inject(IoStatus::kTimeout);
   rig.advance(0.003);
-  EXPECT_EQ(rig.command(CommandKind::kHome), rt::CommandResult::kLinkDown) << "three replies in a row missing";
+  EXPECT_EQ(rig.command(CommandKind::kHome), rt::CommandResult::kLinkDown)
+      << "three replies in a row missing";
 }
 
 }  // namespace

@@ -22,14 +22,16 @@ class LostWrites : public ::testing::Test {
   void SetUp() override {
     rig_.physics().set_watchdog_ms(50);  // the DAQ's own watchdog must not decide these tests
     rig_.command(CommandKind::kHome);
-    ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
+    ASSERT_TRUE(rig_.run_until(
+        [](const rt::StatusSnapshot& s) { return s.state == RunState::kReady; }, 60));
     rig_.command(CommandKind::kTare);
     ASSERT_TRUE(rig_.run_until([](const rt::StatusSnapshot& s) { return s.tared; }, 5));
     rt::RunParams params;
     params.run_id = 9;
     ASSERT_EQ(rig_.command(CommandKind::kArm, params), rt::CommandResult::kAccepted);
     const double surface = rig_.physics().params().tissue.surface_mm;
-    ASSERT_TRUE(rig_.run_until([surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 2.0; }, 30));
+    ASSERT_TRUE(rig_.run_until(
+        [surface](const rt::StatusSnapshot& s) { return s.position_mm > surface + 2.0; }, 30));
   }
 
   static rt::LoopSettings settings() {
@@ -54,7 +56,8 @@ class LostWrites : public ::testing::Test {
 TEST_F(LostWrites, LostWriteAnswersFaultTheRunOnlyAfterTheConfiguredNumberInARow) {
   rig_.daq().inject_write(IoStatus::kTimeout);
   for (int i = 0; i < kMaxFailedWrites; ++i) rig_.loop().run_for(rig_.loop().period_ns());
-  EXPECT_EQ(rig_.status().state, RunState::kCutting) << kMaxFailedWrites << " lost writes: judged in the next cycle";
+  EXPECT_EQ(rig_.status().state, RunState::kCutting)
+      << kMaxFailedWrites << " lost writes: judged in the next cycle";
   const int more = cycles_until_fault();
   const rt::StatusSnapshot st = rig_.status();
   EXPECT_EQ(st.fault, FaultCode::kDaqWriteFailed);

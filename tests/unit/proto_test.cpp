@@ -17,7 +17,10 @@ std::string field_at_fault(const std::string& body) {
 }
 
 TEST(Proto, AValidRunRequestParses) {
-  const auto r = nlohmann::json::parse(R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"meta":{"temperature_C":"21"}})").get<RunRequest>();
+  const auto r =
+      nlohmann::json::parse(
+          R"({"eye_id":"E07","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"meta":{"temperature_C":"21"}})")
+          .get<RunRequest>();
   EXPECT_EQ(r.eye_id, "E07");
   EXPECT_EQ(r.meta->at("temperature_C"), "21");
   EXPECT_FALSE(r.hold_s.has_value());
@@ -25,11 +28,19 @@ TEST(Proto, AValidRunRequestParses) {
 
 TEST(Proto, ErrorsNameTheFieldAtFault) {
   EXPECT_EQ(field_at_fault(R"({"iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14})"), "eye_id");
-  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":99,"velocity_mm_s":2,"depth_mm":14})"), "iop_mmHg");
-  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":"fast","depth_mm":14})"), "velocity_mm_s");
-  EXPECT_EQ(field_at_fault(R"({"eye_id":"E 1;rm","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14})"), "eye_id");
-  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"speed":3})"), "speed");
-  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"meta":{"Bad Key":"x"}})"), "meta.Bad Key");
+  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":99,"velocity_mm_s":2,"depth_mm":14})"),
+            "iop_mmHg");
+  EXPECT_EQ(field_at_fault(R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":"fast","depth_mm":14})"),
+            "velocity_mm_s");
+  EXPECT_EQ(field_at_fault(R"({"eye_id":"E 1;rm","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14})"),
+            "eye_id");
+  EXPECT_EQ(
+      field_at_fault(R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"speed":3})"),
+      "speed");
+  EXPECT_EQ(
+      field_at_fault(
+          R"({"eye_id":"E","iop_mmHg":15,"velocity_mm_s":2,"depth_mm":14,"meta":{"Bad Key":"x"}})"),
+      "meta.Bad Key");
 }
 
 TEST(Proto, NestedMessagesRoundTrip) {

@@ -22,7 +22,8 @@ using namespace std::chrono_literals;
 constexpr int kFlushIntervalMs = 20;
 
 // Samples of one run, one per ms of wall time [cycle numbers continue from `cycle`].
-void feed(rt::LoopChannels& channels, std::int64_t run_id, std::uint64_t& cycle, std::chrono::milliseconds how_long) {
+void feed(rt::LoopChannels& channels, std::int64_t run_id, std::uint64_t& cycle,
+          std::chrono::milliseconds how_long) {
   const auto end = std::chrono::steady_clock::now() + how_long;
   do {
     rt::Sample s;
@@ -38,7 +39,8 @@ void feed(rt::LoopChannels& channels, std::int64_t run_id, std::uint64_t& cycle,
 // Waits until the recorder has written `samples` and committed them (no commit for 5 intervals).
 void until_committed(const Recorder& recorder, std::uint64_t samples) {
   const auto give_up = std::chrono::steady_clock::now() + 60s;
-  while (recorder.samples_written() < samples && std::chrono::steady_clock::now() < give_up) std::this_thread::sleep_for(5ms);
+  while (recorder.samples_written() < samples && std::chrono::steady_clock::now() < give_up)
+    std::this_thread::sleep_for(5ms);
   ASSERT_EQ(recorder.samples_written(), samples);
   for (std::uint64_t before = ~0ULL; before != recorder.commits();) {
     before = recorder.commits();
@@ -59,7 +61,9 @@ std::int64_t started_run(const std::string& path, const char* eye_id) {
 // A scratch archive with a started run, and a recorder on it that has started.
 struct RecordingArchive {
   RecordingArchive(const char* scratch, const char* eye_id)
-      : dir(scratch), path((dir.path() / "archive.sqlite").string()), run_id(started_run(path, eye_id)),
+      : dir(scratch),
+        path((dir.path() / "archive.sqlite").string()),
+        run_id(started_run(path, eye_id)),
         recorder(channels, path, kFlushIntervalMs) {
     recorder.start();
   }
@@ -83,7 +87,8 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
   EXPECT_GT(stats.last_commit_us.load(), 0);
   EXPECT_GE(stats.max_commit_us.load(), stats.last_commit_us.load());
   EXPECT_GE(stats.max_late_us.load(), 0);
-  EXPECT_GE(stats.last_exposure_us.load(), stats.last_commit_us.load()) << "an exposure holds its own commit";
+  EXPECT_GE(stats.last_exposure_us.load(), stats.last_commit_us.load())
+      << "an exposure holds its own commit";
   EXPECT_GE(stats.max_exposure_us.load(), stats.last_exposure_us.load());
 
   // Between runs nothing is pending: the first commit after a 1.5 s idle spell is exposed from
@@ -93,7 +98,8 @@ TEST(RecorderCommitTiming, EveryCommitOfSamplesIsTalliedAndAnIdleSpellBetweenRun
   ASSERT_NO_FATAL_FAILURE(feed(channels, run_id, cycle, 1ms));
   ASSERT_NO_FATAL_FAILURE(until_committed(recorder, cycle));
   EXPECT_EQ(stats.commits.load(), commits_before + 1);
-  EXPECT_LT(stats.last_exposure_us.load(), 1'000'000) << "the idle spell was counted as exposure [us]";
+  EXPECT_LT(stats.last_exposure_us.load(), 1'000'000)
+      << "the idle spell was counted as exposure [us]";
   recorder.stop();
 }
 
@@ -123,15 +129,21 @@ TEST(RecorderCheckpoints, TheLogIsNeverCopiedInsideARunsCommitsButBetweenRuns) {
     std::this_thread::sleep_for(5ms);
   }
   ASSERT_NO_FATAL_FAILURE(until_committed(recorder, cycle));
-  EXPECT_EQ(recorder.stats().checkpoints.load(), checkpoints_before) << "copied the log while samples came";
-  EXPECT_EQ(std::filesystem::file_size(path), database_before) << "the log was copied into the database inside a commit";
-  EXPECT_GT(std::filesystem::file_size(path + "-wal"), 4U << 20U) << "the samples did not take the log past 1000 pages";
+  EXPECT_EQ(recorder.stats().checkpoints.load(), checkpoints_before)
+      << "copied the log while samples came";
+  EXPECT_EQ(std::filesystem::file_size(path), database_before)
+      << "the log was copied into the database inside a commit";
+  EXPECT_GT(std::filesystem::file_size(path + "-wal"), 4U << 20U)
+      << "the samples did not take the log past 1000 pages";
   const auto idle_until = std::chrono::steady_clock::now() + 10s;
-  while (recorder.stats().checkpoints.load() == checkpoints_before && std::chrono::steady_clock::now() < idle_until) {
+  while (recorder.stats().checkpoints.load() == checkpoints_before &&
+         std::chrono::steady_clock::now() < idle_until) {
     std::this_thread::sleep_for(50ms);
   }
-  EXPECT_GT(recorder.stats().checkpoints.load(), checkpoints_before) << "no copy once the samples stopped";
-  EXPECT_GT(std::filesystem::file_size(path), database_before) << "the copy between runs reached the database";
+  EXPECT_GT(recorder.stats().checkpoints.load(), checkpoints_before)
+      << "no copy once the samples stopped";
+  EXPECT_GT(std::filesystem::file_size(path), database_before)
+      << "the copy between runs reached the database";
   recorder.stop();
   archive::Archive reader(path);
   EXPECT_EQ(reader.checkpoint(), 0) << "frames of the log were left uncopied";
@@ -145,7 +157,8 @@ constexpr auto kDrain = std::chrono::milliseconds(2);
 TEST(CommitCadence, TheNextCommitStartsEarlyByTheRecentCostSoItsExposureStaysWithinTheInterval) {
   CommitCadence cadence(kInterval, kDrain);
   Clock::time_point warm{};  // kRecent cheap commits measured: the fresh assumption is gone
-  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, warm += kInterval) cadence.after_commit(warm, warm, warm);
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, warm += kInterval)
+    cadence.after_commit(warm, warm, warm);
   const Clock::time_point t0 = warm + 1s;
   // Due at t0, began 5 ms late, took 10 ms: the next is due 50 - 2 - 15 ms after it began.
   const Clock::time_point began = t0 + 5ms;
@@ -159,7 +172,8 @@ TEST(CommitCadence, TheNextCommitStartsEarlyByTheRecentCostSoItsExposureStaysWit
   EXPECT_EQ(cadence.after_commit(slow, slow, slow + 80ms), slow + 80ms);
   // The margin forgets: after kRecent cheap commits it is theirs again.
   Clock::time_point t = t0 + 2s;
-  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 1ms);
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval)
+    cadence.after_commit(t, t, t + 1ms);
   EXPECT_EQ(cadence.recent_cost(), 1ms);
 }
 
@@ -175,20 +189,23 @@ TEST(CommitCadence, AFreshCadenceAssumesACommitCostsHalfTheIntervalUntilItHasMea
   EXPECT_LE((first + 20ms) - t0, kInterval - kDrain);
   // Once kRecent commits are measured the assumption is gone.
   Clock::time_point t = t0 + 1s;
-  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 3ms);
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval)
+    cadence.after_commit(t, t, t + 3ms);
   EXPECT_EQ(cadence.recent_cost(), 3ms);
 }
 
 TEST(CommitCadence, ASyncSlowerThanHalfTheIntervalSpacesCommitsByHalfTheIntervalNotBackToBack) {
   CommitCadence cadence(kInterval, kDrain);
   Clock::time_point t{};
-  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval) cadence.after_commit(t, t, t + 1ms);
+  for (std::size_t i = 0; i < CommitCadence::kRecent; ++i, t += kInterval)
+    cadence.after_commit(t, t, t + 1ms);
   // The syncer reports a commit durable 200 ms after it was due (a stalled disk): no cadence
   // keeps the bound then, and writing every drain period would only load the disk more.
   cadence.note_durable(200ms);
   EXPECT_EQ(cadence.recent_cost(), 200ms);
   const Clock::time_point began = t + 1s;
-  EXPECT_EQ(cadence.after_commit(began, began, began + 1ms) - began, kInterval - kDrain - kInterval / 2);
+  EXPECT_EQ(cadence.after_commit(began, began, began + 1ms) - began,
+            kInterval - kDrain - kInterval / 2);
 }
 
 TEST(CommitCadence, NoCommitCostlierThanTheRecentOnesExposesMoreThanTheInterval) {
@@ -207,7 +224,8 @@ TEST(CommitCadence, NoCommitCostlierThanTheRecentOnesExposesMoreThanTheInterval)
     const Clock::time_point began = due + late;
     const Clock::time_point ended = began + took;
     // Judged only while the margin already holds a cost as high as this one's.
-    if (commit > 0 && late + took <= cadence.recent_cost()) worst_exposure = std::max(worst_exposure, ended - previous_began);
+    if (commit > 0 && late + took <= cadence.recent_cost())
+      worst_exposure = std::max(worst_exposure, ended - previous_began);
     worst_cost = std::max(worst_cost, Clock::duration(late + took));
     due = cadence.after_commit(due, began, ended);
     previous_began = began;

@@ -26,8 +26,10 @@ Request get(const std::string& host, const std::string& target = "/api/status") 
 const RequestGuard kGuard("https://rig07.lab.example:8443, http://bench-pc:8080", "rigbox");
 
 TEST(RequestGuard, TheOverlayPageCommandingItsOwnRigdIsAccepted) {
-  EXPECT_FALSE(kGuard.refusal(post("127.0.0.1:8080", "http://127.0.0.1:8080", "application/json"), true));
-  EXPECT_FALSE(kGuard.refusal(post("localhost:8080", "http://localhost:8080", "application/json; charset=utf-8"), true));
+  EXPECT_FALSE(
+      kGuard.refusal(post("127.0.0.1:8080", "http://127.0.0.1:8080", "application/json"), true));
+  EXPECT_FALSE(kGuard.refusal(
+      post("localhost:8080", "http://localhost:8080", "application/json; charset=utf-8"), true));
   EXPECT_FALSE(kGuard.refusal(post("[::1]:8080", "http://[::1]:8080", "application/json"), true));
 }
 
@@ -36,16 +38,19 @@ TEST(RequestGuard, TheCliWithoutAnOriginHeaderIsAccepted) {
 }
 
 TEST(RequestGuard, APageOfAnotherOriginCannotCommandTheRig) {
-  const auto why = kGuard.refusal(post("127.0.0.1:8080", "http://evil.example", "application/json"), true);
+  const auto why =
+      kGuard.refusal(post("127.0.0.1:8080", "http://evil.example", "application/json"), true);
   ASSERT_TRUE(why);
   EXPECT_NE(why->find("evil.example"), std::string::npos) << *why;
   // Another port on loopback is another origin too (any local web app).
-  EXPECT_TRUE(kGuard.refusal(post("127.0.0.1:8080", "http://127.0.0.1:3000", "application/json"), true));
+  EXPECT_TRUE(
+      kGuard.refusal(post("127.0.0.1:8080", "http://127.0.0.1:3000", "application/json"), true));
   EXPECT_TRUE(kGuard.refusal(post("127.0.0.1:8080", "null", "application/json"), true));
 }
 
 TEST(RequestGuard, ATextPlainOrFormPostIsRefusedEvenWithoutOrigin) {
-  for (const char* type : {"text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", ""}) {
+  for (const char* type :
+       {"text/plain", "application/x-www-form-urlencoded", "multipart/form-data; boundary=x", ""}) {
     const auto why = kGuard.refusal(post("127.0.0.1:8080", "", type), true);
     ASSERT_TRUE(why) << type;
     EXPECT_NE(why->find("application/json"), std::string::npos) << *why;
@@ -56,17 +61,21 @@ TEST(RequestGuard, ADnsRebindingPageIsRefusedForReadsToo) {
   const auto why = kGuard.refusal(get("attacker.example:8080"), false);
   ASSERT_TRUE(why);
   EXPECT_NE(why->find("attacker.example"), std::string::npos) << *why;
-  EXPECT_TRUE(kGuard.refusal(post("attacker.example:8080", "http://attacker.example:8080", "application/json"), true));
+  EXPECT_TRUE(kGuard.refusal(
+      post("attacker.example:8080", "http://attacker.example:8080", "application/json"), true));
   EXPECT_TRUE(kGuard.refusal(get(""), false)) << "no Host at all";
 }
 
 TEST(RequestGuard, TheMachinesOwnNameAndConfiguredOriginsAreAccepted) {
   EXPECT_FALSE(kGuard.refusal(get("rigbox:8080"), false));
   EXPECT_FALSE(kGuard.refusal(get("RIGBOX.local:8080"), false));
-  EXPECT_FALSE(kGuard.refusal(post("rig07.lab.example:8443", "https://rig07.lab.example:8443", "application/json"), true));
+  EXPECT_FALSE(kGuard.refusal(
+      post("rig07.lab.example:8443", "https://rig07.lab.example:8443", "application/json"), true));
   // A configured origin may command a rigd reached under another of its names.
-  EXPECT_FALSE(kGuard.refusal(post("192.168.1.7:8080", "http://bench-pc:8080", "application/json"), true));
-  EXPECT_TRUE(kGuard.refusal(post("192.168.1.7:8080", "http://bench-pc:9999", "application/json"), true));
+  EXPECT_FALSE(
+      kGuard.refusal(post("192.168.1.7:8080", "http://bench-pc:8080", "application/json"), true));
+  EXPECT_TRUE(
+      kGuard.refusal(post("192.168.1.7:8080", "http://bench-pc:9999", "application/json"), true));
 }
 
 TEST(RequestGuard, WebSocketUpgradesFromAForeignPageAreRefused) {

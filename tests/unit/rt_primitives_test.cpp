@@ -11,7 +11,9 @@
 namespace rig::rt {
 namespace {
 
-TEST(SpscRing, RejectsACapacityThatIsNotAPowerOfTwo) { EXPECT_THROW(SpscRing<int>(100), std::invalid_argument); }
+TEST(SpscRing, RejectsACapacityThatIsNotAPowerOfTwo) {
+  EXPECT_THROW(SpscRing<int>(100), std::invalid_argument);
+}
 
 TEST(SpscRing, ReportsFullInsteadOfOverwriting) {
   SpscRing<int> ring(4);

@@ -20,14 +20,16 @@ std::string error_for(const std::string& text) {
 }
 
 TEST(RunCsv, ReadsMetadataColumnsAndExtraChannels) {
-  std::istringstream in("# eye_id: E07\n# iop_mmHg: 15\n# velocity_mm_s: 2.0\n# operator: technician-3\n# future_key_C: 21.5\n"
-                        "t_s,x_mm,force_N,temperature_C\r\n0.0,0.0,0.0003,21.4\r\n0.001,0.002,0.0002,21.5\r\n");
+  std::istringstream in(
+      "# eye_id: E07\n# iop_mmHg: 15\n# velocity_mm_s: 2.0\n# operator: technician-3\n# "
+      "future_key_C: 21.5\n"
+      "t_s,x_mm,force_N,temperature_C\r\n0.0,0.0,0.0003,21.4\r\n0.001,0.002,0.0002,21.5\r\n");
   const RunData run = read_run_csv(in, "ok.csv");
   ASSERT_EQ(run.size(), 2U);
   EXPECT_EQ(run.text("eye_id"), "E07");
   EXPECT_EQ(run.number("iop_mmHg"), 15.0);
   EXPECT_FALSE(run.number("operator").has_value());  // text, not a covariate
-  EXPECT_EQ(run.number("future_key_C"), 21.5);        // unknown keys are kept
+  EXPECT_EQ(run.number("future_key_C"), 21.5);       // unknown keys are kept
   ASSERT_EQ(run.channels.size(), 1U);
   EXPECT_EQ(run.channels[0].name, "temperature_C");
   EXPECT_DOUBLE_EQ(run.channels[0].values[1], 21.5);
@@ -58,19 +60,24 @@ TEST(RunCsv, AShortRowIsAnError) {
 }
 
 TEST(RunCsv, TimeGoingBackwardsIsAnError) {
-  EXPECT_NE(error_for("t_s,x_mm,force_N\n0.2,0,0\n0.1,0,0\n").find("bad.csv:3: column 't_s': time goes backwards"), std::string::npos);
+  EXPECT_NE(error_for("t_s,x_mm,force_N\n0.2,0,0\n0.1,0,0\n")
+                .find("bad.csv:3: column 't_s': time goes backwards"),
+            std::string::npos);
 }
 
 TEST(RunCsv, AMissingRequiredColumnIsNamed) {
-  EXPECT_EQ(error_for("t_s,x_mm\n0,0\n"), "bad.csv:1: required column 'force_N' is missing from the header");
+  EXPECT_EQ(error_for("t_s,x_mm\n0,0\n"),
+            "bad.csv:1: required column 'force_N' is missing from the header");
 }
 
 TEST(RunCsv, NonFiniteNumbersAreRejected) {
-  EXPECT_NE(error_for("t_s,x_mm,force_N\n0,0,nan\n").find("'force_N': 'nan' is not a number"), std::string::npos);
+  EXPECT_NE(error_for("t_s,x_mm,force_N\n0,0,nan\n").find("'force_N': 'nan' is not a number"),
+            std::string::npos);
 }
 
 TEST(RunCsv, AMalformedMetadataLineIsAnError) {
-  EXPECT_EQ(error_for("# just a comment\nt_s,x_mm,force_N\n0,0,0\n"), "bad.csv:1: metadata line is not '# key: value'");
+  EXPECT_EQ(error_for("# just a comment\nt_s,x_mm,force_N\n0,0,0\n"),
+            "bad.csv:1: metadata line is not '# key: value'");
 }
 
 TEST(RunCsv, WritingAndReadingGivesTheSameRun) {
@@ -91,15 +98,18 @@ TEST(RunCsv, WritingAndReadingGivesTheSameRun) {
 
 TEST(RunCsv, NotesWithNewlinesAndBackslashesSurviveTheRoundTrip) {
   RunData run;
-  run.meta = {{"eye_id", "E2"}, {"notes", "blade chipped\nre-run on E3\r\nC:\\data\\e2 and a literal \\n"}};
+  run.meta = {{"eye_id", "E2"},
+              {"notes", "blade chipped\nre-run on E3\r\nC:\\data\\e2 and a literal \\n"}};
   run.t_s = {0.0, 0.001};
   run.x_mm = {0.0, 0.002};
   run.force_N = {0.0, 0.001};
   std::stringstream text;
   write_run_csv(run, text);
   const std::string written = text.str();
-  const std::string notes_line = written.substr(written.find("# notes: "), written.find("re-run") - written.find("# notes: "));
-  EXPECT_EQ(notes_line.find('\n'), std::string::npos) << "the notes stay on their metadata line:\n" << written;
+  const std::string notes_line =
+      written.substr(written.find("# notes: "), written.find("re-run") - written.find("# notes: "));
+  EXPECT_EQ(notes_line.find('\n'), std::string::npos) << "the notes stay on their metadata line:\n"
+                                                      << written;
   const RunData back = read_run_csv(text, "notes.csv");
   EXPECT_EQ(back.meta, run.meta);
   EXPECT_EQ(back.size(), 2U);
@@ -110,12 +120,15 @@ TEST(RunCsv, AVeryLongMetadataLineIsReadWithoutRecursion) {
   std::istringstream in("# notes: " + value + "\n# iop_mmHg: 15\nt_s,x_mm,force_N\n0,0,0\n");
   const RunData run = read_run_csv(in, "long.csv");
   EXPECT_EQ(run.text("notes")->size(), value.size());
-  EXPECT_EQ(error_for("# 9key: 1\nt_s,x_mm,force_N\n0,0,0\n"), "bad.csv:1: metadata line is not '# key: value'");
-  EXPECT_EQ(error_for("# key value\nt_s,x_mm,force_N\n0,0,0\n"), "bad.csv:1: metadata line is not '# key: value'");
+  EXPECT_EQ(error_for("# 9key: 1\nt_s,x_mm,force_N\n0,0,0\n"),
+            "bad.csv:1: metadata line is not '# key: value'");
+  EXPECT_EQ(error_for("# key value\nt_s,x_mm,force_N\n0,0,0\n"),
+            "bad.csv:1: metadata line is not '# key: value'");
 }
 
 TEST(RunCsv, TheDigitisedNeedleDataImports) {
-  const RunData run = read_run_csv(testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
+  const RunData run = read_run_csv(
+      testing::source("tests/data/okamura2004-needle/needle-liver-insert-hold-retract.csv"));
   EXPECT_GT(run.size(), 800U);
   EXPECT_EQ(run.number("velocity_mm_s"), 10.0);
   EXPECT_EQ(run.warnings.size(), 1U);  // no IOP: a liver has none

@@ -121,7 +121,8 @@ TEST_F(RunReplay, ASampleWhosePhaseIsNoCutPhaseIsRefusedNamingTheRunAndTheSample
   } catch (const std::runtime_error& e) {
     EXPECT_STREQ(e.what(), "archive run 1: sample 510: phase 255 is not a cut phase (0..4)");
   }
-  EXPECT_EQ(stream("/api/runs/1/stream?from=511")["cycle"].size(), 89U);  // the samples after it replay
+  EXPECT_EQ(stream("/api/runs/1/stream?from=511")["cycle"].size(),
+            89U);  // the samples after it replay
 }
 
 // Found by tests/fuzz/fuzz_archive_rows: the next cycle after the largest index overflowed
@@ -133,9 +134,12 @@ TEST_F(RunReplay, ASampleIndexThatIsNoLoopCycleIsRefusedNamingTheRun) {
     stream("/api/runs/1/stream?from=550&limit=100");
     FAIL() << "no error";
   } catch (const std::runtime_error& e) {
-    EXPECT_STREQ(e.what(), "archive run 1: sample index 9223372036854775807 is not a loop cycle (0 .. 2^63-2)");
+    EXPECT_STREQ(
+        e.what(),
+        "archive run 1: sample index 9223372036854775807 is not a loop cycle (0 .. 2^63-2)");
   }
-  EXPECT_EQ(stream("/api/runs/1/stream?from=550&limit=49")["next_cycle"], 599);  // the samples before it replay
+  EXPECT_EQ(stream("/api/runs/1/stream?from=550&limit=49")["next_cycle"],
+            599);  // the samples before it replay
 }
 
 std::string frame_error(archive::Archive& archive, std::int64_t run_id, std::int64_t frame_no) {
@@ -157,7 +161,8 @@ TEST_F(RunReplay, AFrameRowLargerThanItsFileIsRefusedBeforeAnyByteIsAllocatedNam
   row.file = file;
   row.width = row.height = 8;
   row.bytes = 64;
-  row.file_offset = archive::FrameFile(file).append(std::vector<std::uint8_t>(64, 7));  // after its 16 B header
+  row.file_offset =
+      archive::FrameFile(file).append(std::vector<std::uint8_t>(64, 7));  // after its 16 B header
   archive_.add_frame(row);
   EXPECT_EQ(read_archived_frame(archive_, id_, 0).pixels, std::string(64, '\x07'));
   for (const std::int64_t bytes : {std::int64_t{1} << 40, std::int64_t{-5}, std::int64_t{65}}) {
@@ -165,12 +170,19 @@ TEST_F(RunReplay, AFrameRowLargerThanItsFileIsRefusedBeforeAnyByteIsAllocatedNam
     row.bytes = bytes;
     archive_.add_frame(row);
   }
-  EXPECT_EQ(frame_error(archive_, id_, 1), "archive run 1: frame 1: 1099511627776 B at offset 16 are not in its frame file " + file + " (80 B)");
-  EXPECT_EQ(frame_error(archive_, id_, 2), "archive run 1: frame 2: -5 B at offset 16 are not in its frame file " + file + " (80 B)");
-  EXPECT_EQ(frame_error(archive_, id_, 3), "archive run 1: frame 3: 65 B at offset 16 are not in its frame file " + file + " (80 B)");
+  EXPECT_EQ(frame_error(archive_, id_, 1),
+            "archive run 1: frame 1: 1099511627776 B at offset 16 are not in its frame file " +
+                file + " (80 B)");
+  EXPECT_EQ(
+      frame_error(archive_, id_, 2),
+      "archive run 1: frame 2: -5 B at offset 16 are not in its frame file " + file + " (80 B)");
+  EXPECT_EQ(
+      frame_error(archive_, id_, 3),
+      "archive run 1: frame 3: 65 B at offset 16 are not in its frame file " + file + " (80 B)");
   row.frame_no = 4, row.bytes = 1, row.file = "/dev/zero";
   archive_.add_frame(row);
-  EXPECT_EQ(frame_error(archive_, id_, 4), "archive run 1: frame 4: 1 B at offset 16 are not in its frame file /dev/zero (0 B)");
+  EXPECT_EQ(frame_error(archive_, id_, 4),
+            "archive run 1: frame 4: 1 B at offset 16 are not in its frame file /dev/zero (0 B)");
 }
 
 }  // namespace

@@ -16,7 +16,9 @@ using usbdaq::Message;
 using usbdaq::Opcode;
 using usbdaq::Status;
 
-std::span<const std::uint8_t> bytes(const Message& m, std::size_t n) { return {m.data(), n}; }
+std::span<const std::uint8_t> bytes(const Message& m, std::size_t n) {
+  return {m.data(), n};
+}
 
 TEST(UsbDaqProtocol, ARequestRoundTripsThroughTheHeaderDecoder) {
   Message m{};
@@ -72,7 +74,8 @@ struct DeviceFixture : ::testing::Test {
   sim::UsbDaqDevice device{physics};
   std::uint16_t sequence = 0;
 
-  std::optional<usbdaq::Header> ask(Opcode op, std::span<const std::uint8_t> payload, Message& reply, double now_s) {
+  std::optional<usbdaq::Header> ask(Opcode op, std::span<const std::uint8_t> payload,
+                                    Message& reply, double now_s) {
     Message request{};
     const std::size_t n = usbdaq::encode_request(request, op, ++sequence, payload);
     const std::size_t m = device.handle(bytes(request, n), reply, now_s);
@@ -86,7 +89,8 @@ TEST_F(DeviceFixture, AnswersHelloWithItsChannelsAndRate) {
   ASSERT_TRUE(h);
   EXPECT_TRUE(h->response);
   EXPECT_EQ(h->sequence, sequence);
-  const auto hello = usbdaq::decode_hello(std::span<const std::uint8_t>(reply.data() + 8, h->length));
+  const auto hello =
+      usbdaq::decode_hello(std::span<const std::uint8_t>(reply.data() + 8, h->length));
   ASSERT_TRUE(hello);
   EXPECT_EQ(hello->channels, 3);
   EXPECT_GT(hello->conversion_hz, 0U);
@@ -96,11 +100,15 @@ TEST_F(DeviceFixture, MovesTheCarriageWhenTheMotorIsEnabledAndDriven) {
   Message reply{};
   auto h = ask(Opcode::kReadInputs, {}, reply, 0.0);
   ASSERT_TRUE(h);
-  const float before = usbdaq::decode_inputs(std::span<const std::uint8_t>(reply.data() + 8, h->length))->position_volts;
+  const float before =
+      usbdaq::decode_inputs(std::span<const std::uint8_t>(reply.data() + 8, h->length))
+          ->position_volts;
   usbdaq::OutputsRequest out{1, 0, 6.0F, 0.0F};
-  for (int i = 1; i <= 500; ++i) ASSERT_TRUE(ask(Opcode::kWriteOutputs, usbdaq::encode(out), reply, i * 1e-3));
+  for (int i = 1; i <= 500; ++i)
+    ASSERT_TRUE(ask(Opcode::kWriteOutputs, usbdaq::encode(out), reply, i * 1e-3));
   h = ask(Opcode::kReadInputs, {}, reply, 0.5);
-  const auto after = usbdaq::decode_inputs(std::span<const std::uint8_t>(reply.data() + 8, h->length));
+  const auto after =
+      usbdaq::decode_inputs(std::span<const std::uint8_t>(reply.data() + 8, h->length));
   ASSERT_TRUE(after);
   EXPECT_GT(std::abs(after->position_volts - before), 0.01F);
   EXPECT_TRUE(physics.truth().motor_powered);

@@ -19,9 +19,12 @@ std::string take_error(GError* error, const std::string& what) {
 
 ArvPixelFormat arv_format(PixelFormat format) {
   switch (format) {
-    case PixelFormat::kRgb8: return ARV_PIXEL_FORMAT_RGB_8_PACKED;
-    case PixelFormat::kYuyv: return ARV_PIXEL_FORMAT_YUV_422_YUYV_PACKED;
-    case PixelFormat::kMono8: break;
+    case PixelFormat::kRgb8:
+      return ARV_PIXEL_FORMAT_RGB_8_PACKED;
+    case PixelFormat::kYuyv:
+      return ARV_PIXEL_FORMAT_YUV_422_YUYV_PACKED;
+    case PixelFormat::kMono8:
+      break;
   }
   return ARV_PIXEL_FORMAT_MONO_8;
 }
@@ -38,7 +41,8 @@ AravisCamera::AravisCamera(const std::string& id, const CameraSettings& settings
   if (!camera_) throw std::runtime_error(take_error(error, "camera '" + id + "': cannot open"));
   const char* vendor = arv_camera_get_vendor_name(camera_.get(), nullptr);
   const char* model = arv_camera_get_model_name(camera_.get(), nullptr);
-  description_ = std::string(vendor != nullptr ? vendor : "?") + " " + (model != nullptr ? model : "?") + " (" + id + ")";
+  description_ = std::string(vendor != nullptr ? vendor : "?") + " " +
+                 (model != nullptr ? model : "?") + " (" + id + ")";
   configure(settings);
   create_stream(settings.buffer_count);
 }
@@ -52,7 +56,8 @@ void AravisCamera::configure(const CameraSettings& s) {
   ArvCamera* cam = camera_.get();
   GError* error = nullptr;
   const auto check = [&](const std::string& setting) {
-    if (error != nullptr) throw std::runtime_error(take_error(error, "camera '" + id_ + "': " + setting));
+    if (error != nullptr)
+      throw std::runtime_error(take_error(error, "camera '" + id_ + "': " + setting));
   };
   arv_camera_set_acquisition_mode(cam, ARV_ACQUISITION_MODE_CONTINUOUS, &error);
   check("acquisition mode");
@@ -81,18 +86,22 @@ void AravisCamera::configure(const CameraSettings& s) {
 void AravisCamera::create_stream(int buffer_count) {
   GError* error = nullptr;
   stream_.reset(arv_camera_create_stream(camera_.get(), nullptr, nullptr, &error));
-  if (!stream_) throw std::runtime_error(take_error(error, "camera '" + id_ + "': cannot create the stream"));
+  if (!stream_)
+    throw std::runtime_error(take_error(error, "camera '" + id_ + "': cannot create the stream"));
   const guint payload = arv_camera_get_payload(camera_.get(), &error);
-  if (error != nullptr) throw std::runtime_error(take_error(error, "camera '" + id_ + "': payload size"));
+  if (error != nullptr)
+    throw std::runtime_error(take_error(error, "camera '" + id_ + "': payload size"));
   if (ARV_IS_GV_STREAM(stream_.get())) {
     // The receive buffer holds several frames, not one (Aravis' "auto" is one payload), so a
     // receiver thread that a busy machine does not schedule during a frame's burst of packets
     // has room for them. (The incomplete frames seen under ./rig stress came at the stream's
     // start and were not cured by this.) The kernel caps it at net.core.rmem_max [B].
     const auto buffer_B = static_cast<gint>(std::clamp<guint>(4U * payload, 1U << 20, 16U << 20));
-    g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED, "socket-buffer-size", buffer_B, nullptr);
+    g_object_set(stream_.get(), "socket-buffer", ARV_GV_STREAM_SOCKET_BUFFER_FIXED,
+                 "socket-buffer-size", buffer_B, nullptr);
   }
-  for (int i = 0; i < buffer_count; ++i) arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload, nullptr));
+  for (int i = 0; i < buffer_count; ++i)
+    arv_stream_push_buffer(stream_.get(), arv_buffer_new(payload, nullptr));
 }
 
 IoStatus AravisCamera::start() noexcept {
@@ -135,7 +144,8 @@ void AravisCamera::give_back() noexcept {
 
 IoStatus AravisCamera::next_frame(FrameView& frame, int timeout_us) noexcept {
   give_back();
-  ArvBuffer* buffer = arv_stream_timeout_pop_buffer(stream_.get(), static_cast<guint64>(timeout_us));
+  ArvBuffer* buffer =
+      arv_stream_timeout_pop_buffer(stream_.get(), static_cast<guint64>(timeout_us));
   if (buffer == nullptr) {
     ++timeouts_;
     return IoStatus::kTimeout;

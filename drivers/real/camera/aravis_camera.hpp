@@ -10,9 +10,12 @@
 
 #include "rig/drivers/camera.hpp"
 
+// The C library's own struct tags, declared here so the header need not include it.
+// NOLINTBEGIN(bugprone-reserved-identifier)
 struct _ArvCamera;
 struct _ArvStream;
 struct _ArvBuffer;
+// NOLINTEND(bugprone-reserved-identifier)
 
 namespace rig::drivers {
 

@@ -28,7 +28,8 @@ namespace {
 // locked now, as MCL_CURRENT does in a plain build. With MCL_ONFAULT alone, code first run
 // later (a fault path) is read from the disk at that moment, on a host that reclaims idle page
 // cache and may be writing out a build (our guess for a 1.2 s stall of the loop in the ASan
-// tier, 2026-12-04). Anonymous mappings, the runtime's shadow among them, stay on-fault. Setup only.
+// tier, 2026-12-04). Anonymous mappings, the runtime's shadow among them, stay on-fault. Setup
+// only.
 void lock_file_mappings_now() {
   std::ifstream maps("/proc/self/maps");
   std::string line;

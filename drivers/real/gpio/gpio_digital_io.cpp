@@ -12,7 +12,8 @@ std::unique_ptr<GpioLineBank> open_bank(const GpioSettings& s) {
   std::vector<GpioLineSpec> inputs{{s.home_line, s.limits_active_low, "home limit"},
                                    {s.end_line, s.limits_active_low, "end limit"},
                                    {s.estop_line, s.estop_active_low, "e-stop"}};
-  if (s.drive_fault_line >= 0) inputs.push_back({static_cast<unsigned>(s.drive_fault_line), false, "drive fault"});
+  if (s.drive_fault_line >= 0)
+    inputs.push_back({static_cast<unsigned>(s.drive_fault_line), false, "drive fault"});
   const std::vector<GpioLineSpec> outputs{{s.motor_enable_line, false, "motor enable"},
                                           {s.camera_trigger_line, false, "camera trigger"}};
   return std::make_unique<GpiodV1LineBank>(s.chip, inputs, outputs);
@@ -21,11 +22,15 @@ std::unique_ptr<GpioLineBank> open_bank(const GpioSettings& s) {
 }  // namespace
 
 GpioDigitalIo::GpioDigitalIo(const GpioSettings& settings, LoopClock& clock)
-    : GpioDigitalIo(open_bank(settings), settings.drive_fault_line >= 0, settings.debounce_ns, clock) {}
+    : GpioDigitalIo(open_bank(settings), settings.drive_fault_line >= 0, settings.debounce_ns,
+                    clock) {}
 
-GpioDigitalIo::GpioDigitalIo(std::unique_ptr<GpioLineBank> bank, bool has_drive_fault, std::int64_t debounce_ns,
-                             LoopClock& clock)
-    : bank_(std::move(bank)), has_drive_fault_(has_drive_fault), clock_(&clock), debouncer_(debounce_ns) {
+GpioDigitalIo::GpioDigitalIo(std::unique_ptr<GpioLineBank> bank, bool has_drive_fault,
+                             std::int64_t debounce_ns, LoopClock& clock)
+    : bank_(std::move(bank)),
+      has_drive_fault_(has_drive_fault),
+      clock_(&clock),
+      debouncer_(debounce_ns) {
   std::array<bool, 4> levels{};
   bank_->read_levels(std::span<bool>(levels.data(), has_drive_fault_ ? 4 : 3));
   debouncer_.reset(levels, clock_->now_ns());
@@ -37,7 +42,8 @@ IoStatus GpioDigitalIo::read(DigitalInputs& inputs) noexcept {
   IoStatus status = IoStatus::kOk;
   do {  // drain the kernel's queue: a burst of contact bounce can exceed one batch
     status = bank_->poll_edges(edges, count);
-    for (std::size_t i = 0; i < count; ++i) debouncer_.on_edge(edges[i].input, edges[i].active, edges[i].timestamp_ns);
+    for (std::size_t i = 0; i < count; ++i)
+      debouncer_.on_edge(edges[i].input, edges[i].active, edges[i].timestamp_ns);
     edges_seen_ += count;
   } while (status == IoStatus::kOk && count == edges.size());
   const std::int64_t now = clock_->now_ns();
@@ -45,7 +51,8 @@ IoStatus GpioDigitalIo::read(DigitalInputs& inputs) noexcept {
   inputs.end_limit = debouncer_.read(kEndInput, now);
   inputs.estop = debouncer_.read(kEstopInput, now);
   inputs.drive_fault = has_drive_fault_ && debouncer_.read(kDriveFaultInput, now);
-  if (status != IoStatus::kOk) inputs.estop = true;  // a GPIO chip we cannot read is a pressed e-stop
+  if (status != IoStatus::kOk)
+    inputs.estop = true;  // a GPIO chip we cannot read is a pressed e-stop
   estop_active_ = inputs.estop;
   if (estop_active_ && last_outputs_.motor_enable) {
     bank_->set_output(kMotorEnableOutput, false);  // cut power now, before the loop's own answer

@@ -19,16 +19,21 @@ struct GpioSettings {
   unsigned home_line = 0;
   unsigned end_line = 1;
   unsigned estop_line = 2;
-  int drive_fault_line = -1;       // -1 = not wired
+  int drive_fault_line = -1;  // -1 = not wired
   unsigned motor_enable_line = 3;
   unsigned camera_trigger_line = 4;
-  bool estop_active_low = true;    // normally-closed e-stop loop: a broken wire reads as pressed
+  bool estop_active_low = true;  // normally-closed e-stop loop: a broken wire reads as pressed
   bool limits_active_low = false;
   std::int64_t debounce_ns = 2'000'000;
 };
 
 // Input and output order of the bank GpioDigitalIo expects.
-enum GpioInput : std::size_t { kHomeInput = 0, kEndInput = 1, kEstopInput = 2, kDriveFaultInput = 3 };
+enum GpioInput : std::size_t {
+  kHomeInput = 0,
+  kEndInput = 1,
+  kEstopInput = 2,
+  kDriveFaultInput = 3
+};
 enum GpioOutput : std::size_t { kMotorEnableOutput = 0, kCameraTriggerOutput = 1 };
 
 class GpioDigitalIo final : public DigitalIo {
@@ -36,7 +41,8 @@ class GpioDigitalIo final : public DigitalIo {
   // Opens the chip through libgpiod (v1 API); throws naming the chip and line (setup only).
   GpioDigitalIo(const GpioSettings& settings, LoopClock& clock);
   // Any bank with inputs {home, end, e-stop[, drive fault]} and outputs {enable, trigger}.
-  GpioDigitalIo(std::unique_ptr<GpioLineBank> bank, bool has_drive_fault, std::int64_t debounce_ns, LoopClock& clock);
+  GpioDigitalIo(std::unique_ptr<GpioLineBank> bank, bool has_drive_fault, std::int64_t debounce_ns,
+                LoopClock& clock);
 
   IoStatus read(DigitalInputs& inputs) noexcept override;
   IoStatus write(const DigitalOutputs& outputs) noexcept override;

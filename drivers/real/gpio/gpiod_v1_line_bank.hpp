@@ -32,8 +32,12 @@ class GpiodV1LineBank final : public GpioLineBank {
   std::string chip_name() const;
 
  private:
-  struct ChipCloser { void operator()(gpiod_chip* chip) const noexcept; };
-  struct LineReleaser { void operator()(gpiod_line* line) const noexcept; };
+  struct ChipCloser {
+    void operator()(gpiod_chip* chip) const noexcept;
+  };
+  struct LineReleaser {
+    void operator()(gpiod_line* line) const noexcept;
+  };
   using ChipPtr = std::unique_ptr<gpiod_chip, ChipCloser>;
   using LinePtr = std::unique_ptr<gpiod_line, LineReleaser>;
 

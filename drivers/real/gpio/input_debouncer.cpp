@@ -3,7 +3,8 @@
 namespace rig::drivers {
 
 void InputDebouncer::reset(std::span<const bool> levels, std::int64_t now_ns) noexcept {
-  for (std::size_t i = 0; i < levels.size() && i < kMaxInputs; ++i) lines_[i] = Line{levels[i], now_ns, levels[i], false};
+  for (std::size_t i = 0; i < levels.size() && i < kMaxInputs; ++i)
+    lines_[i] = Line{levels[i], now_ns, levels[i], false};
 }
 
 void InputDebouncer::on_edge(std::size_t input, bool active, std::int64_t timestamp_ns) noexcept {

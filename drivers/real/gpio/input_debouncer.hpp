@@ -25,10 +25,10 @@ class InputDebouncer {
 
  private:
   struct Line {
-    bool raw = false;              // last level the kernel reported
-    std::int64_t raw_since_ns = 0; // when it took that level
-    bool stable = false;           // debounced level
-    bool latched = false;          // became active since the last read
+    bool raw = false;               // last level the kernel reported
+    std::int64_t raw_since_ns = 0;  // when it took that level
+    bool stable = false;            // debounced level
+    bool latched = false;           // became active since the last read
   };
   std::int64_t debounce_ns_;
   std::array<Line, kMaxInputs> lines_{};

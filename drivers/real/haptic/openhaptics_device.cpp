@@ -18,38 +18,48 @@ struct OpenHapticsDevice::Api {
   void (*hdGetDoublev)(hd::HDenum, hd::HDdouble*) = nullptr;
   void (*hdSetDoublev)(hd::HDenum, const hd::HDdouble*) = nullptr;
   hd::HDErrorInfo (*hdGetError)() = nullptr;
-  hd::HDSchedulerHandle (*hdScheduleAsynchronous)(hd::HDSchedulerCallback, void*, hd::HDushort) = nullptr;
+  hd::HDSchedulerHandle (*hdScheduleAsynchronous)(hd::HDSchedulerCallback, void*,
+                                                  hd::HDushort) = nullptr;
   void (*hdUnschedule)(hd::HDSchedulerHandle) = nullptr;
   void (*hdStartScheduler)() = nullptr;
   void (*hdStopScheduler)() = nullptr;
 };
 
-void OpenHapticsDevice::LibraryCloser::operator()(void* handle) const noexcept { dlclose(handle); }
+void OpenHapticsDevice::LibraryCloser::operator()(void* handle) const noexcept {
+  dlclose(handle);
+}
 
 namespace {
 
 template <typename F>
 void resolve(void* library, const char* name, F& target) {
   void* symbol = dlsym(library, name);
-  if (symbol == nullptr) throw std::runtime_error(std::string("OpenHaptics: symbol ") + name + " missing from libHD.so");
+  if (symbol == nullptr)
+    throw std::runtime_error(std::string("OpenHaptics: symbol ") + name + " missing from libHD.so");
   target = reinterpret_cast<F>(symbol);
 }
 
 HapticFault fault_of(hd::HDerror code) {
   switch (code) {
-    case hd::kWarmMotors: return HapticFault::kWarmMotors;
+    case hd::kWarmMotors:
+      return HapticFault::kWarmMotors;
     case hd::kExceededMaxForce:
-    case hd::kExceededMaxForceImpulse: return HapticFault::kExceededMaxForce;
-    case hd::kExceededMaxVelocity: return HapticFault::kExceededMaxVelocity;
+    case hd::kExceededMaxForceImpulse:
+      return HapticFault::kExceededMaxForce;
+    case hd::kExceededMaxVelocity:
+      return HapticFault::kExceededMaxVelocity;
     case hd::kCommError:
-    case hd::kCommConfigError: return HapticFault::kCommError;
-    default: return HapticFault::kOther;
+    case hd::kCommConfigError:
+      return HapticFault::kCommError;
+    default:
+      return HapticFault::kOther;
   }
 }
 
 }  // namespace
 
-OpenHapticsDevice::OpenHapticsDevice(const std::string& library, const std::string& device_name) : api_(std::make_unique<Api>()) {
+OpenHapticsDevice::OpenHapticsDevice(const std::string& library, const std::string& device_name)
+    : api_(std::make_unique<Api>()) {
   library_.reset(dlopen(library.c_str(), RTLD_NOW | RTLD_LOCAL));
   if (!library_) {
     throw std::runtime_error("OpenHaptics library " + library + " not found (" + dlerror() +
@@ -73,7 +83,8 @@ OpenHapticsDevice::OpenHapticsDevice(const std::string& library, const std::stri
   device_ = a.hdInitDevice(device_name.empty() ? nullptr : device_name.c_str());
   const hd::HDErrorInfo error = a.hdGetError();
   if (device_ == hd::kInvalidHandle || error.errorCode != hd::kSuccess) {
-    throw std::runtime_error("OpenHaptics: cannot initialise the device (HD error 0x" + std::to_string(error.errorCode) + ")");
+    throw std::runtime_error("OpenHaptics: cannot initialise the device (HD error 0x" +
+                             std::to_string(error.errorCode) + ")");
   }
   // Limits come from the device, never from a table of models.
   a.hdGetDoublev(hd::kNominalMaxForce, &limits_.max_force_N);
@@ -86,15 +97,19 @@ OpenHapticsDevice::~OpenHapticsDevice() {
   if (device_ != hd::kInvalidHandle) api_->hdDisableDevice(device_);
 }
 
-std::string OpenHapticsDevice::describe() const { return "Phantom via OpenHaptics (libHD)"; }
+std::string OpenHapticsDevice::describe() const {
+  return "Phantom via OpenHaptics (libHD)";
+}
 
 void OpenHapticsDevice::start(HapticServo& servo) {
   servo_ = &servo;
-  t0_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  t0_s_ =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   running_.store(true);  // before the scheduler can call back
   api_->hdEnable(hd::kForceOutput);
   force_enabled_.store(true);
-  callback_ = api_->hdScheduleAsynchronous(&OpenHapticsDevice::servo_callback, this, hd::kDefaultSchedulerPriority);
+  callback_ = api_->hdScheduleAsynchronous(&OpenHapticsDevice::servo_callback, this,
+                                           hd::kDefaultSchedulerPriority);
   api_->hdStartScheduler();
   if (check_error()) {
     running_.store(false);
@@ -135,7 +150,9 @@ hd::HDCallbackCode OpenHapticsDevice::tick() noexcept {
   api_->hdBeginFrame(api_->hdGetCurrentDevice());
   Vec3 position{};
   api_->hdGetDoublev(hd::kCurrentPosition, position.data());
-  const double t = std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() - t0_s_;
+  const double t =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+      t0_s_;
   Vec3 force = servo_->tick(position, t);
   if (!force_enabled_.load(std::memory_order_relaxed)) force = {0.0, 0.0, 0.0};
   api_->hdSetDoublev(hd::kCurrentForce, force.data());

@@ -16,7 +16,8 @@ class OpenHapticsDevice final : public HapticDevice {
  public:
   // Loads the library and initialises the device; throws std::runtime_error naming what is
   // missing (the library, a symbol, or the device).
-  explicit OpenHapticsDevice(const std::string& library = "libHD.so", const std::string& device_name = "");
+  explicit OpenHapticsDevice(const std::string& library = "libHD.so",
+                             const std::string& device_name = "");
   ~OpenHapticsDevice() override;
   std::string describe() const override;
   HapticLimits limits() const noexcept override { return limits_; }
@@ -29,7 +30,9 @@ class OpenHapticsDevice final : public HapticDevice {
   // next servo tick.
   double output_latency_s() const noexcept override { return 0.001; }
   double period_s() const noexcept override { return 0.001; }
-  bool paced_by_wall_clock() const noexcept override { return true; }  // a Phantom always has a hand on it
+  bool paced_by_wall_clock() const noexcept override {
+    return true;
+  }  // a Phantom always has a hand on it
 
  private:
   struct Api;

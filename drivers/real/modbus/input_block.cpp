@@ -8,7 +8,8 @@ namespace rig::drivers {
 
 namespace reg = proto::daq;
 
-std::optional<DecodedInputBlock> decode_input_block(std::span<const std::uint16_t> block, double max_abs_volts) noexcept {
+std::optional<DecodedInputBlock> decode_input_block(std::span<const std::uint16_t> block,
+                                                    double max_abs_volts) noexcept {
   if (block.size() < static_cast<std::size_t>(reg::input::kCount)) return std::nullopt;
   if (block[reg::input::kVersion] != reg::kProtocolVersion) return std::nullopt;
   const float volts[3] = {reg::decode_f32(block.data() + reg::input::kForceVolts),

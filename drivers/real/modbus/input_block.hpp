@@ -18,6 +18,7 @@ struct DecodedInputBlock {
 };
 
 // nullopt: too short, wrong protocol version, or a channel not finite / beyond ±max_abs_volts.
-std::optional<DecodedInputBlock> decode_input_block(std::span<const std::uint16_t> block, double max_abs_volts) noexcept;
+std::optional<DecodedInputBlock> decode_input_block(std::span<const std::uint16_t> block,
+                                                    double max_abs_volts) noexcept;
 
 }  // namespace rig::drivers

@@ -14,14 +14,18 @@ void ModbusContextDeleter::operator()(_modbus* ctx) const noexcept {
 
 ModbusContextPtr make_modbus_tcp(const std::string& host, int port) {
   ModbusContextPtr ctx(modbus_new_tcp(host.c_str(), port));
-  if (!ctx) throw std::runtime_error("modbus: cannot create TCP context for " + host + ":" + std::to_string(port) + ": " + modbus_strerror(errno));
+  if (!ctx)
+    throw std::runtime_error("modbus: cannot create TCP context for " + host + ":" +
+                             std::to_string(port) + ": " + modbus_strerror(errno));
   return ctx;
 }
 
 ModbusContextPtr make_modbus_rtu(const std::string& device, int baud, char parity, int data_bits,
                                  int stop_bits) {
   ModbusContextPtr ctx(modbus_new_rtu(device.c_str(), baud, parity, data_bits, stop_bits));
-  if (!ctx) throw std::runtime_error("modbus: cannot create RTU context for " + device + ": " + modbus_strerror(errno));
+  if (!ctx)
+    throw std::runtime_error("modbus: cannot create RTU context for " + device + ": " +
+                             modbus_strerror(errno));
   return ctx;
 }
 
@@ -44,7 +48,8 @@ IoStatus io_status_from_errno(int error_number) noexcept {
       return IoStatus::kLinkDown;
     default:
       // EMBXILFUN ... EMBXGTAR: the DAQ answered in step and said no (e.g. exception 4).
-      if (error_number > MODBUS_ENOBASE && error_number < MODBUS_ENOBASE + MODBUS_EXCEPTION_MAX) return IoStatus::kRefused;
+      if (error_number > MODBUS_ENOBASE && error_number < MODBUS_ENOBASE + MODBUS_EXCEPTION_MAX)
+        return IoStatus::kRefused;
       // EMBBADDATA, EMBBADCRC, EMBBADEXC, EMBMDATA, EMBXILFUN, ...: the peer answered
       // something we cannot use.
       return IoStatus::kBadData;

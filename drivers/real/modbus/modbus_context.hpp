@@ -6,7 +6,10 @@
 
 #include "rig/drivers/io_status.hpp"
 
+// The C library's own struct tags, declared here so the header need not include it.
+// NOLINTBEGIN(bugprone-reserved-identifier)
 struct _modbus;
+// NOLINTEND(bugprone-reserved-identifier)
 
 namespace rig::drivers {
 

@@ -31,7 +31,8 @@ ModbusDaq::ModbusDaq(const ModbusDaqSettings& settings) : settings_(settings) {
   connected_ = true;
   std::uint16_t block[reg::input::kCount] = {};
   if (modbus_read_input_registers(ctx_.get(), 0, reg::input::kCount, block) != reg::input::kCount) {
-    throw std::runtime_error("DAQ at " + where + ": no answer to the first read: " + modbus_strerror(errno));
+    throw std::runtime_error("DAQ at " + where +
+                             ": no answer to the first read: " + modbus_strerror(errno));
   }
   if (block[reg::input::kVersion] != reg::kProtocolVersion) {
     throw std::runtime_error("DAQ at " + where + ": protocol version " +
@@ -46,9 +47,15 @@ ModbusDaq::ModbusDaq(const ModbusDaqSettings& settings) : settings_(settings) {
 IoStatus ModbusDaq::fail(int error_number) noexcept {
   const IoStatus status = io_status_from_errno(error_number);
   switch (status) {
-    case IoStatus::kTimeout: ++counters_.timeouts; break;
-    case IoStatus::kLinkDown: ++counters_.link_errors; break;
-    default: ++counters_.bad_data; break;
+    case IoStatus::kTimeout:
+      ++counters_.timeouts;
+      break;
+    case IoStatus::kLinkDown:
+      ++counters_.link_errors;
+      break;
+    default:
+      ++counters_.bad_data;
+      break;
   }
   if (status == IoStatus::kLinkDown) {
     modbus_close(ctx_.get());
@@ -81,7 +88,8 @@ IoStatus ModbusDaq::ensure_connected() noexcept {
 }
 
 IoStatus ModbusDaq::validate(const std::uint16_t* block, AnalogFrame& frame) noexcept {
-  const auto decoded = decode_input_block(std::span<const std::uint16_t>(block, reg::input::kCount), settings_.max_abs_volts);
+  const auto decoded = decode_input_block(std::span<const std::uint16_t>(block, reg::input::kCount),
+                                          settings_.max_abs_volts);
   if (!decoded) return IoStatus::kBadData;
   frame = decoded->frame;
   digital_ = decoded->digital;

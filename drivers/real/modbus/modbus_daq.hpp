@@ -15,19 +15,19 @@
 namespace rig::drivers {
 
 struct ModbusDaqSettings {
-  std::string transport = "tcp";   // "tcp" or "rtu"
+  std::string transport = "tcp";  // "tcp" or "rtu"
   std::string host = "127.0.0.1";
   int port = 1502;
-  std::string serial_device;       // RTU: /dev/ttyUSB0
+  std::string serial_device;  // RTU: /dev/ttyUSB0
   int baud = 115200;
   char parity = 'N';
   int data_bits = 8;
   int stop_bits = 1;
   int unit_id = 1;
-  int response_timeout_us = 700;   // < one loop period, so a lost reply never hangs the loop
-  int watchdog_ms = 5;             // DAQ drops its outputs after this much silence
+  int response_timeout_us = 700;  // < one loop period, so a lost reply never hangs the loop
+  int watchdog_ms = 5;            // DAQ drops its outputs after this much silence
   int reconnect_every_cycles = 200;
-  double max_abs_volts = 12.0;     // readings outside are garbage
+  double max_abs_volts = 12.0;  // readings outside are garbage
 };
 
 class ModbusDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo {
@@ -36,7 +36,7 @@ class ModbusDaq final : public AnalogInput, public ActuatorDrive, public Digital
   explicit ModbusDaq(const ModbusDaqSettings& settings);
 
   IoStatus read(AnalogFrame& frame) noexcept override;
-  IoStatus read(DigitalInputs& inputs) noexcept override;   // from this cycle's input block
+  IoStatus read(DigitalInputs& inputs) noexcept override;           // from this cycle's input block
   IoStatus write(const DigitalOutputs& outputs) noexcept override;  // staged for write(Drive)
   IoStatus write(const DriveCommand& command) noexcept override;
   LinkCounters counters() const noexcept { return counters_; }

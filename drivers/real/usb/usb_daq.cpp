@@ -29,14 +29,17 @@ std::string hex4(int value) {
 
 }  // namespace
 
-void UsbDaq::ContextDeleter::operator()(libusb_context* ctx) const noexcept { libusb_exit(ctx); }
+void UsbDaq::ContextDeleter::operator()(libusb_context* ctx) const noexcept {
+  libusb_exit(ctx);
+}
 
 UsbDaq::UsbDaq(const UsbDaqSettings& settings) : settings_(settings) {
   // No enumeration by libusb itself: without udevd it would only ever see the devices
   // present at init. We find the device in sysfs and hand libusb its usbfs descriptor.
   libusb_set_option(nullptr, LIBUSB_OPTION_NO_DEVICE_DISCOVERY);
   libusb_context* ctx = nullptr;
-  if (const int r = libusb_init(&ctx); r != 0) throw std::runtime_error(std::string("USB DAQ: libusb_init failed: ") + libusb_error_name(r));
+  if (const int r = libusb_init(&ctx); r != 0)
+    throw std::runtime_error(std::string("USB DAQ: libusb_init failed: ") + libusb_error_name(r));
   ctx_.reset(ctx);
   std::string why;
   const std::string id = hex4(settings.vendor_id) + ":" + hex4(settings.product_id);
@@ -46,13 +49,16 @@ UsbDaq::UsbDaq(const UsbDaqSettings& settings) : settings_(settings) {
   // A device still answering an earlier session, or a host stalled past the time-out, can
   // miss one greeting; its late reply is skipped by the next (transact).
   IoStatus s = IoStatus::kTimeout;
-  for (int attempt = 0; attempt < kHelloAttempts && (s == IoStatus::kTimeout || s == IoStatus::kBadData); ++attempt) {
+  for (int attempt = 0;
+       attempt < kHelloAttempts && (s == IoStatus::kTimeout || s == IoStatus::kBadData);
+       ++attempt) {
     s = transact(usbdaq::Opcode::kHello, {}, reply, payload);
   }
   const auto hello = s == IoStatus::kOk ? usbdaq::decode_hello(payload) : std::nullopt;
   if (!hello) {
     close_device();
-    throw std::runtime_error("USB DAQ " + id + ": no valid HELLO answer (" + std::string(to_string(s)) +
+    throw std::runtime_error("USB DAQ " + id + ": no valid HELLO answer (" +
+                             std::string(to_string(s)) +
                              "); is it running rigd's DAQ firmware (docs/usb-daq-protocol.md)?");
   }
   hello_ = *hello;
@@ -69,13 +75,18 @@ bool UsbDaq::open_device(std::string& why) noexcept {
     std::error_code ec;
     for (const auto& entry : std::filesystem::directory_iterator(settings_.sysfs_root, ec)) {
       const auto& dir = entry.path();
-      if (read_attribute(dir, "idVendor") != vid || read_attribute(dir, "idProduct") != pid) continue;
+      if (read_attribute(dir, "idVendor") != vid || read_attribute(dir, "idProduct") != pid)
+        continue;
       if (!settings_.serial.empty() && read_attribute(dir, "serial") != settings_.serial) continue;
       char node[64];
-      std::snprintf(node, sizeof node, "/%03d/%03d", std::stoi(read_attribute(dir, "busnum")), std::stoi(read_attribute(dir, "devnum")));
+      std::snprintf(node, sizeof node, "/%03d/%03d", std::stoi(read_attribute(dir, "busnum")),
+                    std::stoi(read_attribute(dir, "devnum")));
       const std::string path = settings_.devfs_root + node;
       const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-      if (fd < 0) { why = "cannot open " + path + " (permissions? see docs/usb-daq-protocol.md)"; return false; }
+      if (fd < 0) {
+        why = "cannot open " + path + " (permissions? see docs/usb-daq-protocol.md)";
+        return false;
+      }
       libusb_device_handle* handle = nullptr;
       if (const int r = libusb_wrap_sys_device(ctx_.get(), fd, &handle); r != 0) {
         ::close(fd);
@@ -100,10 +111,12 @@ bool UsbDaq::open_device(std::string& why) noexcept {
       // Number this session's requests from the clock, not from 1: replies the device still
       // holds for an earlier session (rigd restarted, a greeting timed out) then carry
       // sequences this one does not expect, and are skipped (transact).
-      sequence_ = static_cast<std::uint16_t>(std::chrono::steady_clock::now().time_since_epoch().count() >> 10);
+      sequence_ = static_cast<std::uint16_t>(
+          std::chrono::steady_clock::now().time_since_epoch().count() >> 10);
       return true;
     }
-    why = "not found on the USB bus" + (settings_.serial.empty() ? std::string() : " with serial " + settings_.serial);
+    why = "not found on the USB bus" +
+          (settings_.serial.empty() ? std::string() : " with serial " + settings_.serial);
   } catch (const std::exception& e) {
     why = e.what();
   }
@@ -139,8 +152,12 @@ void UsbDaq::close_device() noexcept {
 
 IoStatus UsbDaq::fail(int libusb_error) noexcept {
   switch (libusb_error) {
-    case LIBUSB_ERROR_TIMEOUT: ++counters_.timeouts; return IoStatus::kTimeout;
-    case LIBUSB_ERROR_OVERFLOW: ++counters_.bad_data; return IoStatus::kBadData;
+    case LIBUSB_ERROR_TIMEOUT:
+      ++counters_.timeouts;
+      return IoStatus::kTimeout;
+    case LIBUSB_ERROR_OVERFLOW:
+      ++counters_.bad_data;
+      return IoStatus::kBadData;
     default:  // NO_DEVICE, IO, PIPE, ...: treat the device as gone and look for it again
       ++counters_.link_errors;
       close_device();
@@ -159,7 +176,8 @@ IoStatus UsbDaq::ensure_connected() noexcept {
   return IoStatus::kOk;
 }
 
-IoStatus UsbDaq::transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> payload, usbdaq::Message& reply,
+IoStatus UsbDaq::transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> payload,
+                          usbdaq::Message& reply,
                           std::span<const std::uint8_t>& reply_payload) noexcept {
   if (handle_ == nullptr) return IoStatus::kLinkDown;
   usbdaq::Message request{};
@@ -167,19 +185,35 @@ IoStatus UsbDaq::transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> p
   const std::size_t length = usbdaq::encode_request(request, opcode, sequence, payload);
   ++counters_.transactions;
   int sent = 0, got = 0;
-  if (const int r = libusb_bulk_transfer(handle_, ep_out_, request.data(), static_cast<int>(length), &sent, settings_.timeout_ms); r != 0)
+  if (const int r = libusb_bulk_transfer(handle_, ep_out_, request.data(), static_cast<int>(length),
+                                         &sent, settings_.timeout_ms);
+      r != 0)
     return fail(r);
   // Replies to earlier requests that timed out may still be queued, whatever they answered:
   // skip every other sequence.
   for (int attempt = 0; attempt < kStaleRepliesSkipped; ++attempt) {
-    if (const int r = libusb_bulk_transfer(handle_, ep_in_, reply.data(), static_cast<int>(reply.size()), &got, settings_.timeout_ms); r != 0)
+    if (const int r =
+            libusb_bulk_transfer(handle_, ep_in_, reply.data(), static_cast<int>(reply.size()),
+                                 &got, settings_.timeout_ms);
+        r != 0)
       return fail(r);
-    const auto header = usbdaq::decode_header(std::span<const std::uint8_t>(reply.data(), static_cast<std::size_t>(got)));
-    if (!header || !header->response) { ++counters_.bad_data; return IoStatus::kBadData; }
+    const auto header = usbdaq::decode_header(
+        std::span<const std::uint8_t>(reply.data(), static_cast<std::size_t>(got)));
+    if (!header || !header->response) {
+      ++counters_.bad_data;
+      return IoStatus::kBadData;
+    }
     if (header->sequence != sequence) continue;
-    if (header->opcode != opcode) { ++counters_.bad_data; return IoStatus::kBadData; }
-    if (header->status != usbdaq::Status::kOk) { ++counters_.bad_data; return IoStatus::kRefused; }
-    reply_payload = std::span<const std::uint8_t>(reply.data() + usbdaq::kHeaderSize, header->length);
+    if (header->opcode != opcode) {
+      ++counters_.bad_data;
+      return IoStatus::kBadData;
+    }
+    if (header->status != usbdaq::Status::kOk) {
+      ++counters_.bad_data;
+      return IoStatus::kRefused;
+    }
+    reply_payload =
+        std::span<const std::uint8_t>(reply.data() + usbdaq::kHeaderSize, header->length);
     return IoStatus::kOk;
   }
   ++counters_.bad_data;
@@ -194,8 +228,11 @@ IoStatus UsbDaq::read(AnalogFrame& frame) noexcept {
   input_status_ = transact(usbdaq::Opcode::kReadInputs, {}, reply, payload);
   if (input_status_ != IoStatus::kOk) return input_status_;
   const auto inputs = usbdaq::decode_inputs(payload);
-  const auto plausible = [this](float v) { return std::isfinite(v) && std::fabs(v) <= settings_.max_abs_volts; };
-  if (!inputs || !plausible(inputs->force_volts) || !plausible(inputs->position_volts) || !plausible(inputs->iop_volts)) {
+  const auto plausible = [this](float v) {
+    return std::isfinite(v) && std::fabs(v) <= settings_.max_abs_volts;
+  };
+  if (!inputs || !plausible(inputs->force_volts) || !plausible(inputs->position_volts) ||
+      !plausible(inputs->iop_volts)) {
     ++counters_.bad_data;
     return input_status_ = IoStatus::kBadData;
   }
@@ -230,7 +267,8 @@ IoStatus UsbDaq::write(const DriveCommand& command) noexcept {
   if (handle_ == nullptr) return IoStatus::kLinkDown;
   usbdaq::OutputsRequest out;
   const bool enable = command.motor_enable && staged_outputs_.motor_enable;
-  out.digital = static_cast<std::uint16_t>((enable ? 1U : 0U) | (staged_outputs_.camera_trigger ? 2U : 0U));
+  out.digital =
+      static_cast<std::uint16_t>((enable ? 1U : 0U) | (staged_outputs_.camera_trigger ? 2U : 0U));
   out.watchdog_ms = static_cast<std::uint16_t>(settings_.watchdog_ms);
   out.motor_volts = enable ? static_cast<float>(command.motor_volts) : 0.0F;
   out.pump_command = static_cast<float>(command.pump_command);

@@ -22,13 +22,13 @@ namespace rig::drivers {
 struct UsbDaqSettings {
   int vendor_id = 0x1d6b;
   int product_id = 0x0104;
-  std::string serial;                 // empty = the first matching device
+  std::string serial;  // empty = the first matching device
   std::string sysfs_root = "/sys/bus/usb/devices";
   std::string devfs_root = "/dev/bus/usb";
-  unsigned timeout_ms = 2;            // per transfer; libusb's resolution is 1 ms
-  int watchdog_ms = 5;                // the DAQ drops its outputs after this much silence
+  unsigned timeout_ms = 2;  // per transfer; libusb's resolution is 1 ms
+  int watchdog_ms = 5;      // the DAQ drops its outputs after this much silence
   int reconnect_every_cycles = 200;
-  double max_abs_volts = 12.0;        // readings outside are garbage
+  double max_abs_volts = 12.0;  // readings outside are garbage
 };
 
 class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo {
@@ -49,13 +49,15 @@ class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
   usbdaq::HelloReply hello() const noexcept { return hello_; }
 
  private:
-  struct ContextDeleter { void operator()(libusb_context* ctx) const noexcept; };
+  struct ContextDeleter {
+    void operator()(libusb_context* ctx) const noexcept;
+  };
   bool open_device(std::string& why) noexcept;
   bool find_bulk_endpoints(libusb_device_handle* handle) noexcept;
   void close_device() noexcept;
   IoStatus ensure_connected() noexcept;
-  IoStatus transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> payload, usbdaq::Message& reply,
-                    std::span<const std::uint8_t>& reply_payload) noexcept;
+  IoStatus transact(usbdaq::Opcode opcode, std::span<const std::uint8_t> payload,
+                    usbdaq::Message& reply, std::span<const std::uint8_t>& reply_payload) noexcept;
   IoStatus fail(int libusb_error) noexcept;
 
   UsbDaqSettings settings_;
@@ -63,8 +65,9 @@ class UsbDaq final : public AnalogInput, public ActuatorDrive, public DigitalIo 
   libusb_device_handle* handle_ = nullptr;  // closed in close_device()
   int device_fd_ = -1;
   unsigned char ep_in_ = 0x81, ep_out_ = 0x02;
-  static constexpr int kHelloAttempts = 3;        // greetings before the constructor gives up
-  static constexpr int kStaleRepliesSkipped = 8;  // queued replies of earlier requests read past per request
+  static constexpr int kHelloAttempts = 3;  // greetings before the constructor gives up
+  static constexpr int kStaleRepliesSkipped =
+      8;  // queued replies of earlier requests read past per request
   std::uint16_t sequence_ = 0;
   int cycles_since_attempt_ = 0;
   usbdaq::HelloReply hello_{};

@@ -12,9 +12,17 @@ class Writer {
  public:
   explicit Writer(std::span<std::uint8_t> out) : out_(out) {}
   void u8(std::uint8_t v) { out_[at_++] = v; }
-  void u16(std::uint16_t v) { u8(static_cast<std::uint8_t>(v & 0xff)); u8(static_cast<std::uint8_t>(v >> 8)); }
-  void u32(std::uint32_t v) { u16(static_cast<std::uint16_t>(v & 0xffff)); u16(static_cast<std::uint16_t>(v >> 16)); }
-  void f32(float v) { u32(std::bit_cast<std::uint32_t>(v)); }  // IEEE-754, little-endian words and bytes
+  void u16(std::uint16_t v) {
+    u8(static_cast<std::uint8_t>(v & 0xff));
+    u8(static_cast<std::uint8_t>(v >> 8));
+  }
+  void u32(std::uint32_t v) {
+    u16(static_cast<std::uint16_t>(v & 0xffff));
+    u16(static_cast<std::uint16_t>(v >> 16));
+  }
+  void f32(float v) {
+    u32(std::bit_cast<std::uint32_t>(v));
+  }  // IEEE-754, little-endian words and bytes
  private:
   std::span<std::uint8_t> out_;
   std::size_t at_ = 0;
@@ -24,9 +32,16 @@ class Reader {
  public:
   explicit Reader(std::span<const std::uint8_t> in) : in_(in) {}
   std::uint8_t u8() { return in_[at_++]; }
-  std::uint16_t u16() { const std::uint16_t lo = u8(); return static_cast<std::uint16_t>(lo | (u8() << 8)); }
-  std::uint32_t u32() { const std::uint32_t lo = u16(); return lo | (static_cast<std::uint32_t>(u16()) << 16); }
+  std::uint16_t u16() {
+    const std::uint16_t lo = u8();
+    return static_cast<std::uint16_t>(lo | (u8() << 8));
+  }
+  std::uint32_t u32() {
+    const std::uint32_t lo = u16();
+    return lo | (static_cast<std::uint32_t>(u16()) << 16);
+  }
   float f32() { return std::bit_cast<float>(u32()); }
+
  private:
   std::span<const std::uint8_t> in_;
   std::size_t at_ = 0;
@@ -49,13 +64,16 @@ std::size_t encode_message(Message& out, std::uint8_t opcode, std::uint16_t sequ
 
 }  // namespace
 
-std::size_t encode_request(Message& out, Opcode opcode, std::uint16_t sequence, std::span<const std::uint8_t> payload) {
+std::size_t encode_request(Message& out, Opcode opcode, std::uint16_t sequence,
+                           std::span<const std::uint8_t> payload) {
   return encode_message(out, static_cast<std::uint8_t>(opcode), sequence, Status::kOk, payload);
 }
 
-std::size_t encode_response(Message& out, const Header& request, Status status, std::span<const std::uint8_t> payload) {
-  return encode_message(out, static_cast<std::uint8_t>(static_cast<std::uint8_t>(request.opcode) | 0x80), request.sequence, status,
-                        payload);
+std::size_t encode_response(Message& out, const Header& request, Status status,
+                            std::span<const std::uint8_t> payload) {
+  return encode_message(out,
+                        static_cast<std::uint8_t>(static_cast<std::uint8_t>(request.opcode) | 0x80),
+                        request.sequence, status, payload);
 }
 
 std::optional<Header> decode_header(std::span<const std::uint8_t> bytes) noexcept {

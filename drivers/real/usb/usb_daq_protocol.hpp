@@ -35,27 +35,29 @@ struct HelloReply {           // payload 8 B
   std::uint32_t conversion_hz = 1000;  // ADC conversions per second
 };
 
-struct InputsReply {            // payload 20 B
-  std::uint32_t sequence = 0;   // conversion counter (stale detection)
-  float force_volts = 0;        // [V]
-  float position_volts = 0;     // [V]
-  float iop_volts = 0;          // [V]
-  std::uint16_t digital = 0;    // bit 0 home, 1 end, 2 e-stop, 3 drive fault
-  std::uint16_t flags = 0;      // bit 0 watchdog tripped (outputs were forced off)
+struct InputsReply {           // payload 20 B
+  std::uint32_t sequence = 0;  // conversion counter (stale detection)
+  float force_volts = 0;       // [V]
+  float position_volts = 0;    // [V]
+  float iop_volts = 0;         // [V]
+  std::uint16_t digital = 0;   // bit 0 home, 1 end, 2 e-stop, 3 drive fault
+  std::uint16_t flags = 0;     // bit 0 watchdog tripped (outputs were forced off)
 };
 
-struct OutputsRequest {         // payload 12 B
-  std::uint16_t digital = 0;    // bit 0 motor enable, bit 1 camera trigger
+struct OutputsRequest {           // payload 12 B
+  std::uint16_t digital = 0;      // bit 0 motor enable, bit 1 camera trigger
   std::uint16_t watchdog_ms = 0;  // outputs off after this much silence, 0 = never
-  float motor_volts = 0;        // [V], + = into the eye
-  float pump_command = 0;       // [0..1]
+  float motor_volts = 0;          // [V], + = into the eye
+  float pump_command = 0;         // [0..1]
 };
 
 using Message = std::array<std::uint8_t, kMaxMessage>;
 
 // Each encoder returns the message length [B].
-std::size_t encode_request(Message& out, Opcode opcode, std::uint16_t sequence, std::span<const std::uint8_t> payload = {});
-std::size_t encode_response(Message& out, const Header& request, Status status, std::span<const std::uint8_t> payload = {});
+std::size_t encode_request(Message& out, Opcode opcode, std::uint16_t sequence,
+                           std::span<const std::uint8_t> payload = {});
+std::size_t encode_response(Message& out, const Header& request, Status status,
+                            std::span<const std::uint8_t> payload = {});
 // Header of a well-formed message (magic, version, length fit the bytes), else nullopt.
 std::optional<Header> decode_header(std::span<const std::uint8_t> bytes) noexcept;
 

@@ -18,25 +18,38 @@ namespace rig::model::effects {
 
 class CovariateScaling final : public FamilyTerm {
  public:
-  enum Form { kPerPhase = 0, kExponential, kLinear, kAfterPuncture, kBeforePuncture, kPunctureShift };
+  enum Form {
+    kPerPhase = 0,
+    kExponential,
+    kLinear,
+    kAfterPuncture,
+    kBeforePuncture,
+    kPunctureShift
+  };
   CovariateScaling(std::string key, const CovariateRange& range, int form = kPerPhase)
       : FamilyTerm(form_names(), form), key_(std::move(key)), range_(range) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "covariate:" + key_; }
-  std::string meaning() const override { return "run covariate '" + key_ + "' scales the tissue force or moves the puncture"; }
+  std::string meaning() const override {
+    return "run covariate '" + key_ + "' scales the tissue force or moves the puncture";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
-  void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
+  void adjust_model(const PreparedRun& run, const double* p,
+                    ContinuousParams& model) const override;
   double scale(const SampleView& s, const double* p) const override;
   std::string evidence(const EvidenceInput& in) const override;
   EyeDof eye_level_params(const double* p) const override;
-  std::vector<std::size_t> puncture_regressors(const PreparedRun& run, std::vector<double>& values) const override;
+  std::vector<std::size_t> puncture_regressors(const PreparedRun& run,
+                                               std::vector<double>& values) const override;
   const std::string& key() const { return key_; }
   const CovariateRange& range() const { return range_; }
 
  private:
-  double z_of(double value) const { return (std::clamp(value, range_.low, range_.high) - range_.mean) / range_.spread; }
+  double z_of(double value) const {
+    return (std::clamp(value, range_.low, range_.high) - range_.mean) / range_.spread;
+  }
   std::string key_;
   CovariateRange range_;
 };

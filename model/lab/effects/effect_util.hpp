@@ -2,6 +2,7 @@
 // Small helpers shared by the effect terms.
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <numbers>
 #include <string>
@@ -11,7 +12,8 @@
 
 namespace rig::model::effects {
 
-inline std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0, double d = 0.0) {
+inline std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0,
+                          double d = 0.0) {
   char text[512];
   std::snprintf(text, sizeof text, fmt, a, b, c, d);
   return text;
@@ -25,8 +27,9 @@ inline void fourier(double cycles, int harmonics, double* row) {
   const double s1 = std::sin(a), c1 = std::cos(a);
   double s = s1, c = c1;
   for (int k = 1; k <= harmonics; ++k) {
-    row[2 * (k - 1)] = s;
-    row[2 * (k - 1) + 1] = c;
+    const std::ptrdiff_t column = 2 * static_cast<std::ptrdiff_t>(k - 1);
+    row[column] = s;
+    row[column + 1] = c;
     const double next_s = s * c1 + c * s1;
     c = c * c1 - s * s1;
     s = next_s;
@@ -48,9 +51,12 @@ inline double largest_amplitude(const std::vector<Eigen::VectorXd>& coefficients
   return amplitudes.empty() ? 0.0 : *std::max_element(amplitudes.begin(), amplitudes.end());
 }
 
-inline bool is_tissue_phase(Phase p) { return p != Phase::kRetraction && p != Phase::kApproach; }
+inline bool is_tissue_phase(Phase p) {
+  return p != Phase::kRetraction && p != Phase::kApproach;
+}
 inline bool after_puncture(Phase p) {
-  return p == Phase::kCutting || p == Phase::kUnloading || p == Phase::kRelaxation || p == Phase::kHold;
+  return p == Phase::kCutting || p == Phase::kUnloading || p == Phase::kRelaxation ||
+         p == Phase::kHold;
 }
 
 }  // namespace rig::model::effects

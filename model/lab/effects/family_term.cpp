@@ -6,8 +6,10 @@
 
 namespace rig::model::effects {
 
-FamilyTerm::FamilyTerm(std::vector<std::string> form_names, int form) : form_(form), form_names_(std::move(form_names)) {
-  if (form_ < 0 || form_ >= static_cast<int>(form_names_.size())) throw std::invalid_argument("effect form index out of range");
+FamilyTerm::FamilyTerm(std::vector<std::string> form_names, int form)
+    : form_(form), form_names_(std::move(form_names)) {
+  if (form_ < 0 || form_ >= static_cast<int>(form_names_.size()))
+    throw std::invalid_argument("effect form index out of range");
 }
 
 std::string FamilyTerm::honesty(const EvidenceInput& in) const {
@@ -19,17 +21,22 @@ std::string FamilyTerm::honesty(const EvidenceInput& in) const {
     if (specs[k].unit == kFormLabelUnit) continue;  // a label of the form, never fitted
     const double value = in.shared[k];
     const double span = std::max(specs[k].upper - specs[k].lower, 1e-12);
-    const bool at_start = std::any_of(start_points.begin(), start_points.end(), [&](const std::vector<double>& s) {
-      return k < s.size() && std::abs(s[k] - value) <= 1e-9 * span;
-    });
+    const bool at_start =
+        std::any_of(start_points.begin(), start_points.end(), [&](const std::vector<double>& s) {
+          return k < s.size() && std::abs(s[k] - value) <= 1e-9 * span;
+        });
     const bool at_bound = std::min(value - specs[k].lower, specs[k].upper - value) <= 1e-4 * span;
     const std::string uninformed = at_start ? uninformed_because(k, in) : std::string();
     if (!uninformed.empty()) {
-      text += "; " + specs[k].name + " has nothing to act on in these runs (" + uninformed + "): left at its start value";
+      text += "; " + specs[k].name + " has nothing to act on in these runs (" + uninformed +
+              "): left at its start value";
     } else if (at_start) {
-      text += "; " + specs[k].name + " did not leave its start value (the fit did not converge: not identified by these runs)";
+      text +=
+          "; " + specs[k].name +
+          " did not leave its start value (the fit did not converge: not identified by these runs)";
     } else if (at_bound) {
-      text += "; " + specs[k].name + " ended on its bound (the fit did not converge inside the allowed range)";
+      text += "; " + specs[k].name +
+              " ended on its bound (the fit did not converge inside the allowed range)";
     }
   }
   return text;

@@ -31,7 +31,9 @@ class FamilyTerm : public EffectTerm {
   // Why shared parameter k has no effect on these runs (e.g. "no stop on the way in"), or
   // empty: such a parameter stays at its start because nothing informs it, not because the
   // fit failed, and the evidence says that instead.
-  virtual std::string uninformed_because(std::size_t /*k*/, const EvidenceInput& /*in*/) const { return {}; }
+  virtual std::string uninformed_because(std::size_t /*k*/, const EvidenceInput& /*in*/) const {
+    return {};
+  }
   int form_;
 
  private:

@@ -24,7 +24,8 @@ std::vector<PreparedRun> selection_runs(const std::vector<const PreparedRun*>& r
     PreparedRun run = *runs[k * runs.size() / take];
     if (run.fit_rows.size() > kMaxRows) {
       std::vector<std::size_t> thinned;
-      for (std::size_t j = 0; j < kMaxRows; ++j) thinned.push_back(run.fit_rows[j * run.fit_rows.size() / kMaxRows]);
+      for (std::size_t j = 0; j < kMaxRows; ++j)
+        thinned.push_back(run.fit_rows[j * run.fit_rows.size() / kMaxRows]);
       run.fit_rows = std::move(thinned);
     }
     out.push_back(std::move(run));
@@ -33,21 +34,29 @@ std::vector<PreparedRun> selection_runs(const std::vector<const PreparedRun*>& r
 }
 
 // Sum of squares and effective sample count of the residuals at the fit rows.
-std::pair<double, double> sse_and_n_effective(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const ModelParams& p) {
+std::pair<double, double> sse_and_n_effective(const Predictor& predictor,
+                                              const std::vector<const PreparedRun*>& runs,
+                                              const ModelParams& p) {
   double sse = 0.0, n_eff = 0.0;
   for (const PreparedRun* run : runs) {
     const std::vector<double> residual = Fitter::residuals(predictor, *run, p, run->fit_rows);
-    const Eigen::Map<const Eigen::VectorXd> r(residual.data(), static_cast<Eigen::Index>(residual.size()));
+    const Eigen::Map<const Eigen::VectorXd> r(residual.data(),
+                                              static_cast<Eigen::Index>(residual.size()));
     sse += r.squaredNorm();
     // Lag-1 autocorrelation, clamped like the diagnosis does (thinned rows are still correlated).
-    const double rho = r.size() > 1 && r.squaredNorm() > 0.0 ? std::clamp(r.head(r.size() - 1).dot(r.tail(r.size() - 1)) / r.squaredNorm(), 0.0, 0.99) : 0.0;
+    const double rho =
+        r.size() > 1 && r.squaredNorm() > 0.0
+            ? std::clamp(r.head(r.size() - 1).dot(r.tail(r.size() - 1)) / r.squaredNorm(), 0.0,
+                         0.99)
+            : 0.0;
     n_eff += static_cast<double>(r.size()) * (1.0 - rho) / (1.0 + rho);
   }
   return {sse, std::max(n_eff, 2.0)};
 }
 
 // The best of the term's starting points (last in p.shared) by the fit-row error.
-void pick_start(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const EffectTerm& term, ModelParams& p) {
+void pick_start(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                const EffectTerm& term, ModelParams& p) {
   const auto starts = term.starts();
   if (starts.size() < 2) return;
   const bool fitted = term.fit_each_start();
@@ -56,7 +65,8 @@ void pick_start(const Predictor& predictor, const std::vector<const PreparedRun*
   for (const auto& candidate : starts) {
     ModelParams trial = p;
     trial.shared.back() = candidate;
-    const double error = fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
+    const double error =
+        fitted ? scorer.fit(trial, kStartProbeEvaluations).rmse_N : scorer.sse(trial);
     if (error < best) best = error, p.shared.back() = candidate;
   }
 }
@@ -85,7 +95,8 @@ ModelParams start_on_model(const Predictor& predictor, const FormSelectionInput&
 // The form fitted from `p` with the baseline (its best start first): the sum of squares at
 // the fit rows [N^2]. The baseline is refitted with the form: held at its own fit, it favours
 // the forms flexible enough to make up for what it absorbed of the effect.
-double form_sse(const Predictor& predictor, const std::vector<const PreparedRun*>& runs, const EffectTerm& term, ModelParams p) {
+double form_sse(const Predictor& predictor, const std::vector<const PreparedRun*>& runs,
+                const EffectTerm& term, ModelParams p) {
   pick_start(predictor, runs, term, p);
   const FitResult fit = Fitter(predictor, runs).fit(p, kMaxEvaluations);
   return sse_and_n_effective(predictor, runs, fit.params).first;
@@ -95,13 +106,16 @@ std::string selection_note(const FormSelectionInput& in, const FormChoice& choic
   int next = -1;
   for (int f = 0; f < in.forms; ++f) {
     if (f != choice.form && std::isfinite(choice.bic[static_cast<std::size_t>(f)]) &&
-        (next < 0 || choice.bic[static_cast<std::size_t>(f)] < choice.bic[static_cast<std::size_t>(next)])) next = f;
+        (next < 0 ||
+         choice.bic[static_cast<std::size_t>(f)] < choice.bic[static_cast<std::size_t>(next)]))
+      next = f;
   }
   std::string note = format("form chosen by BIC among %.0f", in.forms);
   if (next >= 0) {
     const auto term = in.make_form(next);
     note += " (next: " + term->form() +
-            format(", BIC %+.0f)", choice.bic[static_cast<std::size_t>(next)] - choice.bic[static_cast<std::size_t>(choice.form)]);
+            format(", BIC %+.0f)", choice.bic[static_cast<std::size_t>(next)] -
+                                       choice.bic[static_cast<std::size_t>(choice.form)]);
   }
   return note;
 }
@@ -154,13 +168,16 @@ FormChoice select_form(const FormSelectionInput& in, const SelectionBaseline& ba
     // A law of the puncture depth (puncture_law.hpp) is also fitted from the model's own
     // values, the law placed there: the baseline's puncture drop may have run to its bound,
     // where no fit moves it back, and the eyes' shifts then absorb what the law misses.
-    if (has_puncture_law(predictor, runs)) sse = std::min(sse, form_sse(predictor, runs, *term, start_on_model(predictor, in)));
+    if (has_puncture_law(predictor, runs))
+      sse = std::min(sse, form_sse(predictor, runs, *term, start_on_model(predictor, in)));
     if (!std::isfinite(sse)) continue;
-    const double mean_square = std::max(sse / static_cast<double>(std::max<std::size_t>(rows, 1)), 1e-300);
+    const double mean_square =
+        std::max(sse / static_cast<double>(std::max<std::size_t>(rows, 1)), 1e-300);
     choice.bic[static_cast<std::size_t>(f)] =
         n_eff * std::log(mean_square) + form_parameter_count(*term, runs) * std::log(n_eff);
   }
-  choice.form = static_cast<int>(std::min_element(choice.bic.begin(), choice.bic.end()) - choice.bic.begin());
+  choice.form =
+      static_cast<int>(std::min_element(choice.bic.begin(), choice.bic.end()) - choice.bic.begin());
   choice.note = selection_note(in, choice);
   return choice;
 }

@@ -20,14 +20,14 @@ namespace rig::model::effects {
 
 struct FormChoice {
   int form = 0;
-  std::string note;                 // "form chosen by BIC among 4 (next: viscous, +31)"
-  std::vector<double> bic;          // per form; +inf where the form could not be fitted
+  std::string note;         // "form chosen by BIC among 4 (next: viscous, +31)"
+  std::vector<double> bic;  // per form; +inf where the form could not be fitted
 };
 
 struct FormSelectionInput {
   const ForceModel* model = nullptr;
-  std::vector<const EffectTerm*> base_terms;          // already in the model (saved, --with)
-  std::vector<std::vector<double>> base_params;       // their start values, in order
+  std::vector<const EffectTerm*> base_terms;     // already in the model (saved, --with)
+  std::vector<std::vector<double>> base_params;  // their start values, in order
   std::vector<const PreparedRun*> runs;
   int forms = 1;
   std::function<std::unique_ptr<EffectTerm>(int form)> make_form;

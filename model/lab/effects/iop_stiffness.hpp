@@ -18,11 +18,14 @@ class IopStiffness final : public FamilyTerm {
   explicit IopStiffness(int form = kExponentialQuadratic) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "iop_stiffness"; }
-  std::string meaning() const override { return "pre-cut stiffness depends on intraocular pressure"; }
+  std::string meaning() const override {
+    return "pre-cut stiffness depends on intraocular pressure";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
-  void adjust_model(const PreparedRun& run, const double* p, ContinuousParams& model) const override;
+  void adjust_model(const PreparedRun& run, const double* p,
+                    ContinuousParams& model) const override;
   std::string evidence(const EvidenceInput& in) const override;
   EyeDof eye_level_params(const double* p) const override;
   double factor(double dp_mmHg, const double* p) const;

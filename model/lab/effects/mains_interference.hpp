@@ -16,7 +16,9 @@ class MainsInterference final : public FamilyTerm {
   explicit MainsInterference(int form = kHarmonics) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "mains_interference"; }
-  std::string meaning() const override { return "50/60 Hz mains pick-up on the force channel (instrument)"; }
+  std::string meaning() const override {
+    return "50/60 Hz mains pick-up on the force channel (instrument)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;

@@ -20,7 +20,9 @@ class RateDependence final : public FamilyTerm {
       : FamilyTerm(form_names(), form), v_ref_(reference_velocity_mm_s) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "rate_dependence"; }
-  std::string meaning() const override { return "tissue force grows with keratome velocity (viscoelasticity)"; }
+  std::string meaning() const override {
+    return "tissue force grows with keratome velocity (viscoelasticity)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;

@@ -5,20 +5,25 @@
 namespace rig::model::effects {
 
 const std::vector<std::string>& RigCompliance::form_names() {
-  static const std::vector<std::string> kNames = {"linear", "polynomial", "stiffening", "softening"};
+  static const std::vector<std::string> kNames = {"linear", "polynomial", "stiffening",
+                                                  "softening"};
   return kNames;
 }
 
 std::vector<ParamSpec> RigCompliance::shared_params() const {
   switch (form_) {
-    case kLinear: return {{"c", "mm/N", 0.0, -0.5, 3.0}};
+    case kLinear:
+      return {{"c", "mm/N", 0.0, -0.5, 3.0}};
     // Up to 100 mm/N at no load: a mount that takes up a gap or a soft pad first (a few
     // tenths of a mm by ~10 mN, 250001) before it hardens.
-    case kStiffening: return {{"c_0", "mm/N", 0.0, -0.5, 100.0}, {"F0", "N", 0.2, 0.005, 5.0}};
+    case kStiffening:
+      return {{"c_0", "mm/N", 0.0, -0.5, 100.0}, {"F0", "N", 0.2, 0.005, 5.0}};
     // A mount that yields (a clamp slipping, a pad compressing): up to 10 mm/N at no load, the
     // yield force F0 from a fifth of a cut's force to far beyond it (then nearly linear).
-    case kSoftening: return {{"c_0", "mm/N", 0.3, 0.0, 10.0}, {"F0", "N", 0.6, 0.05, 5.0}};
-    default: return {{"c1", "mm/N", 0.0, -0.5, 3.0}, {"c2", "mm/N^2", 0.0, -10.0, 10.0}};
+    case kSoftening:
+      return {{"c_0", "mm/N", 0.3, 0.0, 10.0}, {"F0", "N", 0.6, 0.05, 5.0}};
+    default:
+      return {{"c1", "mm/N", 0.0, -0.5, 3.0}, {"c2", "mm/N^2", 0.0, -10.0, 10.0}};
   }
 }
 
@@ -43,7 +48,9 @@ std::vector<std::vector<double>> RigCompliance::softening_starts() {
   return out;
 }
 
-bool RigCompliance::fit_each_start() const { return form_ == kStiffening || form_ == kSoftening; }
+bool RigCompliance::fit_each_start() const {
+  return form_ == kStiffening || form_ == kSoftening;
+}
 
 // c F / (1 - F/F0) [mm] up to kYieldShare F0, then on along its tangent there (stiffness
 // (1 - kYieldShare)^2 / c): finite and smooth for any force, whatever F0 the fit tries.
@@ -57,10 +64,14 @@ double RigCompliance::yielding_lag(double f, double c, double f0) {
 double RigCompliance::lag(double force_N, const double* p) const {
   const double f = std::max(force_N, 0.0);
   switch (form_) {
-    case kLinear: return p[0] * f;
-    case kStiffening: return p[0] * f / (1.0 + f / p[1]);
-    case kSoftening: return yielding_lag(f, p[0], p[1]);
-    default: return p[0] * f + p[1] * f * f;
+    case kLinear:
+      return p[0] * f;
+    case kStiffening:
+      return p[0] * f / (1.0 + f / p[1]);
+    case kSoftening:
+      return yielding_lag(f, p[0], p[1]);
+    default:
+      return p[0] * f + p[1] * f * f;
   }
 }
 
@@ -77,7 +88,8 @@ double RigCompliance::x_shift(const SampleView& s, const double* p) const {
 // off, the carriage first unloads the mount (by lag(F_front) - lag(F)) before the tip moves.
 double RigCompliance::front_shift(const SampleView& s, const double* p) const {
   if (s.inputs != nullptr) return lag(s.inputs->front_force_N, p);
-  if (s.run != nullptr && s.i < s.run->front_force_N.size()) return lag(s.run->front_force_N[s.i], p);
+  if (s.run != nullptr && s.i < s.run->front_force_N.size())
+    return lag(s.run->front_force_N[s.i], p);
   return lag(s.force_N, p);
 }
 
@@ -87,14 +99,23 @@ std::string RigCompliance::evidence(const EvidenceInput& in) const {
   const double at = lag(f, p);
   std::string mount;
   switch (form_) {
-    case kLinear: mount = "linear mount: "; break;
-    case kStiffening: mount = format("stiffening mount (stiffness doubles by %.3f N): ", p[1]); break;
-    case kSoftening:  // (1 - u)^2 = 1/2 at u = 1 - sqrt(1/2)
-      mount = format("softening mount (stiffness halves by %.3f N, yields towards %.3f N): ", (1.0 - std::sqrt(0.5)) * p[1], p[1]);
+    case kLinear:
+      mount = "linear mount: ";
       break;
-    default: mount = p[1] < 0.0 ? "stiffening mount (polynomial): " : "softening mount (polynomial): "; break;
+    case kStiffening:
+      mount = format("stiffening mount (stiffness doubles by %.3f N): ", p[1]);
+      break;
+    case kSoftening:  // (1 - u)^2 = 1/2 at u = 1 - sqrt(1/2)
+      mount = format("softening mount (stiffness halves by %.3f N, yields towards %.3f N): ",
+                     (1.0 - std::sqrt(0.5)) * p[1], p[1]);
+      break;
+    default:
+      mount = p[1] < 0.0 ? "stiffening mount (polynomial): " : "softening mount (polynomial): ";
+      break;
   }
-  return mount + format("the tip lags the carriage by %.3f mm at %.1f N (mount stiffness about %.2f N/mm)", at, f, at > 1e-9 ? f / at : 0.0) +
+  return mount +
+         format("the tip lags the carriage by %.3f mm at %.1f N (mount stiffness about %.2f N/mm)",
+                at, f, at > 1e-9 ? f / at : 0.0) +
          honesty(in);
 }
 

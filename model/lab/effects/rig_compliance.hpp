@@ -23,7 +23,9 @@ class RigCompliance final : public FamilyTerm {
   explicit RigCompliance(int form = kPolynomial) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "rig_compliance"; }
-  std::string meaning() const override { return "the keratome tip lags the measured carriage by F/k (compliant mount)"; }
+  std::string meaning() const override {
+    return "the keratome tip lags the measured carriage by F/k (compliant mount)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool fit_each_start() const override;

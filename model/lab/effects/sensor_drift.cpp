@@ -16,7 +16,8 @@ const std::vector<std::string>& SensorDrift::form_names() {
 
 std::vector<ParamSpec> SensorDrift::shared_params() const {
   if (form_ == kThermal) return {{"tau_drift", "s", 10.0, 0.3, 1000.0}};
-  if (form_ == kPiecewiseLinear) return {{"knots", kFormLabelUnit, kKnots, kKnots - 0.5, kKnots + 0.5}};
+  if (form_ == kPiecewiseLinear)
+    return {{"knots", kFormLabelUnit, kKnots, kKnots - 0.5, kKnots + 0.5}};
   if (form_ == kOffsetSteps)
     return {{"offset_steps", kFormLabelUnit, kStepColumns, kStepColumns - 0.5, kStepColumns + 0.5}};
   return {};
@@ -77,14 +78,16 @@ int SensorDrift::run_parameters(const PreparedRun& run) const {
   return 1 + static_cast<int>(std::min<std::size_t>(run.seg.offset_steps.size(), kStepColumns));
 }
 
-double SensorDrift::drift(const PreparedRun& run, const Eigen::VectorXd& c, const double* p, double t_s) const {
+double SensorDrift::drift(const PreparedRun& run, const Eigen::VectorXd& c, const double* p,
+                          double t_s) const {
   std::vector<double> row(static_cast<std::size_t>(linear_columns())), first(row.size());
   SampleView s{&run, 0, 0.0, t_s};
   design(s, p, row.data());
   s.t_s = run.data->t_s.front();
   design(s, p, first.data());
   double value = 0.0;
-  for (std::size_t k = 0; k < row.size() && static_cast<Eigen::Index>(k) < c.size(); ++k) value += c(static_cast<Eigen::Index>(k)) * (row[k] - first[k]);
+  for (std::size_t k = 0; k < row.size() && static_cast<Eigen::Index>(k) < c.size(); ++k)
+    value += c(static_cast<Eigen::Index>(k)) * (row[k] - first[k]);
   return value;
 }
 
@@ -95,14 +98,21 @@ std::string SensorDrift::evidence(const EvidenceInput& in) const {
     if (c.size() < linear_columns()) continue;
     const auto& t = in.runs[r]->data->t_s;
     double change = 0.0;
-    for (int k = 1; k <= 20; ++k) change = std::max(change, std::abs(drift(*in.runs[r], c, in.shared, t.front() + (t.back() - t.front()) * k / 20.0)));
+    for (int k = 1; k <= 20; ++k)
+      change = std::max(change, std::abs(drift(*in.runs[r], c, in.shared,
+                                               t.front() + (t.back() - t.front()) * k / 20.0)));
     if (change > worst) worst = change, rate = change / std::max(t.back() - t.front(), 1e-6);
   }
   if (form_ == kOffsetSteps) return step_evidence(in) + honesty(in);
   std::string shape = "polynomial drift: ";
-  if (form_ == kThermal) shape = format("thermal drift (first-order warm-up, %.1f s): ", in.shared[0]);
+  if (form_ == kThermal)
+    shape = format("thermal drift (first-order warm-up, %.1f s): ", in.shared[0]);
   if (form_ == kPiecewiseLinear) shape = "random-walk-like drift (piecewise-linear per run): ";
-  return shape + format("the force offset moves by up to %.4f N within a run (about %.2f mN/s), differently in every run", worst, rate * 1e3) +
+  return shape +
+         format(
+             "the force offset moves by up to %.4f N within a run (about %.2f mN/s), differently "
+             "in every run",
+             worst, rate * 1e3) +
          honesty(in);
 }
 

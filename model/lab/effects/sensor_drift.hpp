@@ -19,7 +19,9 @@ class SensorDrift final : public FamilyTerm {
   explicit SensorDrift(int form = kPolynomial) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "sensor_drift"; }
-  std::string meaning() const override { return "load-cell offset drifting with time during a run (instrument)"; }
+  std::string meaning() const override {
+    return "load-cell offset drifting with time during a run (instrument)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   int linear_columns() const override;

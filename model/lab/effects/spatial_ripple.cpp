@@ -20,9 +20,12 @@ std::vector<ParamSpec> SpatialRipple::shared_params() const {
 
 std::vector<std::vector<double>> SpatialRipple::starts() const {
   std::vector<std::vector<double>> out;
-  for (double period = 0.25; period <= 4.0; period *= 1.01) {  // a ripple stays coherent over ~30 mm only within ~1 %
-    if (form_ == kThreeHarmonics) out.push_back({period});
-    else out.push_back({period, form_ == kSine ? 1.0 : 2.0});
+  for (double period = 0.25; period <= 4.0;
+       period *= 1.01) {  // a ripple stays coherent over ~30 mm only within ~1 %
+    if (form_ == kThreeHarmonics)
+      out.push_back({period});
+    else
+      out.push_back({period, form_ == kSine ? 1.0 : 2.0});
   }
   return out;
 }
@@ -40,7 +43,8 @@ void SpatialRipple::design(const SampleView& s, const double* p, double* row) co
   // per (parked position, period, harmonics) on each fitting thread, not once per sample
   // (its sine and cosine were a tenth of a diagnosis' time, 2026-12-02). Exact: the same call.
   thread_local TareColumns tare;
-  if (tare.parked_mm != s.run->parked_mm || tare.period_mm != p[0] || tare.harmonics != harmonics()) {
+  if (tare.parked_mm != s.run->parked_mm || tare.period_mm != p[0] ||
+      tare.harmonics != harmonics()) {
     tare.parked_mm = s.run->parked_mm, tare.period_mm = p[0], tare.harmonics = harmonics();
     fourier(tare.parked_mm / tare.period_mm, tare.harmonics, tare.columns);
   }
@@ -51,14 +55,22 @@ void SpatialRipple::design(const SampleView& s, const double* p, double* row) co
 
 std::string SpatialRipple::evidence(const EvidenceInput& in) const {
   if (form_ == kWithTheLoad) {
-    std::vector<double> share = run_amplitudes(in.run_coefficients);  // per run: amplitude / force [1]
-    return format("ripple growing with the load: the residual is periodic in displacement with a %.3f mm period, its amplitude "
-                  "proportional to the force on the screw (%.1f %% of the force in the median run, phase differs by run)",
-                  in.shared[0], share.empty() ? 0.0 : 100.0 * median(std::move(share))) + honesty(in);
+    std::vector<double> share =
+        run_amplitudes(in.run_coefficients);  // per run: amplitude / force [1]
+    return format(
+               "ripple growing with the load: the residual is periodic in displacement with a %.3f "
+               "mm period, its amplitude "
+               "proportional to the force on the screw (%.1f %% of the force in the median run, "
+               "phase differs by run)",
+               in.shared[0], share.empty() ? 0.0 : 100.0 * median(std::move(share))) +
+           honesty(in);
   }
   return std::string(form_ == kSine ? "sinusoidal ripple: " : "ripple with 3 harmonics: ") +
-         format("the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f N, phase differs by run)",
-                in.shared[0], largest_amplitude(in.run_coefficients)) + honesty(in);
+         format(
+             "the residual is periodic in displacement with a %.3f mm period (amplitude up to %.4f "
+             "N, phase differs by run)",
+             in.shared[0], largest_amplitude(in.run_coefficients)) +
+         honesty(in);
 }
 
 bool SpatialRipple::identifiable(const EvidenceInput& fitted, std::string& why_not) const {
@@ -77,9 +89,11 @@ bool SpatialRipple::identifiable(const EvidenceInput& fitted, std::string& why_n
   const double median_mm = median(std::move(traversed_mm));
   const double period_mm = fitted.shared[0];
   if (median_mm >= kMinPeriodsSeen * period_mm) return true;
-  why_not = format("its best period, %.2f mm, repeats only %.1f times over the %.1f mm the runs traverse (median run; "
-                   "a ripple must be seen at least %.0f times): a smooth misfit of the baseline, not a ripple",
-                   period_mm, median_mm / period_mm, median_mm, kMinPeriodsSeen);
+  why_not = format(
+      "its best period, %.2f mm, repeats only %.1f times over the %.1f mm the runs traverse "
+      "(median run; "
+      "a ripple must be seen at least %.0f times): a smooth misfit of the baseline, not a ripple",
+      period_mm, median_mm / period_mm, median_mm, kMinPeriodsSeen);
   return false;
 }
 

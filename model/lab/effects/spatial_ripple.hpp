@@ -3,9 +3,9 @@
 // wobble): per-run Fourier coefficients at a period shared by all runs. The run's phase is
 // its own: the screw angle at contact differs. Tare is taken at rest where the run begins,
 // so the ripple there is subtracted: each column is its value less its value at the run's
-// first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1 harmonic),
-// 3 harmonics (sawtooth-like shapes), or a sine whose amplitude is proportional to the load on
-// the screw (the measured force: a nut's friction torque ripple grows with its axial load).
+// first position (no free offset per run: that is drift's or tare's). The family: a pure sine (1
+// harmonic), 3 harmonics (sawtooth-like shapes), or a sine whose amplitude is proportional to the
+// load on the screw (the measured force: a nut's friction torque ripple grows with its axial load).
 #include <limits>
 #include "family_term.hpp"
 
@@ -17,10 +17,14 @@ class SpatialRipple final : public FamilyTerm {
   explicit SpatialRipple(int form = kThreeHarmonics) : FamilyTerm(form_names(), form) {}
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "spatial_ripple"; }
-  std::string meaning() const override { return "force ripple periodic in displacement, e.g. lead-screw pitch (instrument)"; }
+  std::string meaning() const override {
+    return "force ripple periodic in displacement, e.g. lead-screw pitch (instrument)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
-  int linear_columns() const override { return 2 * harmonics(); }  // less their value where the force was tared
+  int linear_columns() const override {
+    return 2 * harmonics();
+  }  // less their value where the force was tared
   void design(const SampleView& s, const double* p, double* row) const override;
   std::string evidence(const EvidenceInput& in) const override;
   // A ripple must repeat: its period seen at least kMinPeriodsSeen times over the depth the

@@ -24,7 +24,9 @@ class StressRelaxation final : public FamilyTerm {
   explicit StressRelaxation(int form = kStretched);
   static const std::vector<std::string>& form_names();
   std::string name() const override { return "stress_relaxation"; }
-  std::string meaning() const override { return "tissue force decays while the blade is held (viscoelastic relaxation)"; }
+  std::string meaning() const override {
+    return "tissue force decays while the blade is held (viscoelastic relaxation)";
+  }
   std::vector<ParamSpec> shared_params() const override;
   std::vector<std::vector<double>> starts() const override;
   bool applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const override;
@@ -35,8 +37,8 @@ class StressRelaxation final : public FamilyTerm {
   double decayed(double t_s, const double* p) const;
 
  private:
-  std::vector<ParamSpec> decay_params() const;  // shared_params() without `reload`
-  int reload_index() const;                     // where `reload` is in the shared parameters
+  std::vector<ParamSpec> decay_params() const;     // shared_params() without `reload`
+  int reload_index() const;                        // where `reload` is in the shared parameters
   mutable std::atomic<bool> model_silent_{false};  // some hold lay where the model has no force
 };
 

@@ -10,15 +10,18 @@ namespace rig::model::effects {
 namespace {
 
 const std::set<std::string>& variable_names() {
-  static const std::set<std::string> kNames = {"x", "t", "v", "P", "F", "L", "th", "is_insertion", "is_precut",
-                                               "is_cutting", "is_hold", "is_retraction"};
+  static const std::set<std::string> kNames = {
+      "x",         "t",          "v",       "P",
+      "F",         "L",          "th",      "is_insertion",
+      "is_precut", "is_cutting", "is_hold", "is_retraction"};
   return kNames;
 }
 
 }  // namespace
 
 bool UserExpression::known_phase(const std::string& phase) {
-  static const std::set<std::string> kPhases = {"insertion", "precut", "cutting", "hold", "retraction", "all"};
+  static const std::set<std::string> kPhases = {"insertion", "precut",     "cutting",
+                                                "hold",      "retraction", "all"};
   return kPhases.count(phase) != 0U;
 }
 
@@ -37,26 +40,41 @@ double* UserExpression::new_covariate(const char* name, void* self) {
   return &term->covariate_values_[name];
 }
 
-UserExpression::UserExpression(const UserTerm& term) : term_(term), parser_(std::make_unique<mu::Parser>()) {
+UserExpression::UserExpression(const UserTerm& term)
+    : term_(term), parser_(std::make_unique<mu::Parser>()) {
   for (const auto& [name, value] : term.params) {
-    if (variable_names().count(name) != 0U) throw ModelFileError("terms." + term.name + ".params." + name + ": '" + name + "' is a variable of user terms, not a parameter name");
+    if (variable_names().count(name) != 0U)
+      throw ModelFileError("terms." + term.name + ".params." + name + ": '" + name +
+                           "' is a variable of user terms, not a parameter name");
     names_.push_back(name);
     values_.push_back(value);
   }
-  if (!known_phase(term.phase)) throw ModelFileError("terms." + term.name + ".phase: '" + term.phase + "' is not one of insertion, precut, cutting, hold, retraction, all");
+  if (!known_phase(term.phase))
+    throw ModelFileError("terms." + term.name + ".phase: '" + term.phase +
+                         "' is not one of insertion, precut, cutting, hold, retraction, all");
   try {
-    const std::pair<const char*, double*> variables[] = {
-        {"x", &x_}, {"t", &t_}, {"v", &v_}, {"P", &p_}, {"F", &f_}, {"L", &l_}, {"th", &th_},
-        {"is_insertion", &is_insertion_}, {"is_precut", &is_precut_}, {"is_cutting", &is_cutting_},
-        {"is_hold", &is_hold_}, {"is_retraction", &is_retraction_}};
+    const std::pair<const char*, double*> variables[] = {{"x", &x_},
+                                                         {"t", &t_},
+                                                         {"v", &v_},
+                                                         {"P", &p_},
+                                                         {"F", &f_},
+                                                         {"L", &l_},
+                                                         {"th", &th_},
+                                                         {"is_insertion", &is_insertion_},
+                                                         {"is_precut", &is_precut_},
+                                                         {"is_cutting", &is_cutting_},
+                                                         {"is_hold", &is_hold_},
+                                                         {"is_retraction", &is_retraction_}};
     for (const auto& [name, address] : variables) parser_->DefineVar(name, address);
     for (std::size_t k = 0; k < names_.size(); ++k) parser_->DefineVar(names_[k], &values_[k]);
-    parser_->SetVarFactory(&UserExpression::new_covariate, this);  // any other name: a run covariate
+    parser_->SetVarFactory(&UserExpression::new_covariate,
+                           this);  // any other name: a run covariate
     parser_->SetExpr(term.expression);
     parser_->Eval();  // reports syntax errors now, and collects the covariates named
   } catch (const mu::Parser::exception_type& e) {
     std::ostringstream what;
-    what << "terms." << term.name << ".expression: " << e.GetMsg() << " at position " << e.GetPos() << " in '" << term.expression << "'";
+    what << "terms." << term.name << ".expression: " << e.GetMsg() << " at position " << e.GetPos()
+         << " in '" << term.expression << "'";
     throw ModelFileError(what.str());
   }
 }
@@ -71,11 +89,15 @@ std::vector<ParamSpec> UserExpression::shared_params() const {
   return specs;
 }
 
-bool UserExpression::applicable(const std::vector<const PreparedRun*>& runs, std::string& why_not) const {
+bool UserExpression::applicable(const std::vector<const PreparedRun*>& runs,
+                                std::string& why_not) const {
   for (const PreparedRun* run : runs) {
     for (const std::string& key : covariate_names_) {
       if (!run->covariate(key, 0).has_value()) {
-        why_not = "'" + key + "' is not a variable (x, t, v, P, F, L, th, is_PHASE), a parameter, or a numeric covariate of run " + run->label();
+        why_not = "'" + key +
+                  "' is not a variable (x, t, v, P, F, L, th, is_PHASE), a parameter, or a numeric "
+                  "covariate of run " +
+                  run->label();
         return false;
       }
     }
@@ -90,7 +112,8 @@ void UserExpression::bind_run(const PreparedRun& run) const {
   for (const std::string& key : covariate_names_) {
     const Channel* channel = run.data->channel(key);
     covariate_channels_.push_back(channel);
-    if (channel == nullptr) covariate_values_[key] = *run.covariate(key, 0);  // metadata: constant over the run
+    if (channel == nullptr)
+      covariate_values_[key] = *run.covariate(key, 0);  // metadata: constant over the run
   }
   bound_run_ = run.data;
 }
@@ -99,7 +122,8 @@ double UserExpression::add(const SampleView& s, const double* p, double force_N)
   if (!in_phase(term_.phase, s.phase)) return 0.0;
   if (s.run->data != bound_run_) bind_run(*s.run);
   for (std::size_t k = 0; k < covariate_names_.size(); ++k) {
-    if (covariate_channels_[k] != nullptr) covariate_values_[covariate_names_[k]] = covariate_channels_[k]->values[s.i];
+    if (covariate_channels_[k] != nullptr)
+      covariate_values_[covariate_names_[k]] = covariate_channels_[k]->values[s.i];
   }
   x_ = s.x_mm;
   t_ = s.t_s;
@@ -126,7 +150,8 @@ UserTerm UserExpression::with_params(const double* p) const {
 
 std::string UserExpression::evidence(const EvidenceInput& in) const {
   std::string text = "user term " + term_.expression + " fitted with";
-  for (std::size_t k = 0; k < names_.size(); ++k) text += " " + names_[k] + format(" = %.4g", in.shared[k]);
+  for (std::size_t k = 0; k < names_.size(); ++k)
+    text += " " + names_[k] + format(" = %.4g", in.shared[k]);
   return text;
 }
 

@@ -42,7 +42,8 @@ class UserExpression final : public EffectTerm {
   std::vector<std::string> names_;
   std::unique_ptr<mu::Parser> parser_;
   mutable double x_ = 0, t_ = 0, v_ = 0, p_ = 0, f_ = 0, l_ = 0, th_ = 0;
-  mutable double is_insertion_ = 0, is_precut_ = 0, is_cutting_ = 0, is_hold_ = 0, is_retraction_ = 0;
+  mutable double is_insertion_ = 0, is_precut_ = 0, is_cutting_ = 0, is_hold_ = 0,
+                 is_retraction_ = 0;
   mutable std::vector<double> values_;
   // Covariates named by the expression: muParser holds pointers to the map's values (stable).
   mutable std::map<std::string, double> covariate_values_;

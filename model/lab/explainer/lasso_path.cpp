@@ -8,10 +8,12 @@ namespace rig::model::explainer {
 namespace {
 
 constexpr int kMaxSweeps = 200;
-constexpr double kTolerance = 1e-7;   // largest coefficient change per sweep, standardised units
+constexpr double kTolerance = 1e-7;  // largest coefficient change per sweep, standardised units
 constexpr double kSmallestLambda = 1e-3;  // of the largest useful lambda
 
-double soft(double z, double lambda) { return z > lambda ? z - lambda : (z < -lambda ? z + lambda : 0.0); }
+double soft(double z, double lambda) {
+  return z > lambda ? z - lambda : (z < -lambda ? z + lambda : 0.0);
+}
 
 // Coordinate descent for (1/2n)|y - X b|^2 + lambda |b|_1, from b (warm start).
 void lasso(const GramStats& s, double lambda, Eigen::VectorXd& b) {
@@ -50,7 +52,8 @@ Eigen::VectorXd refit(const GramStats& s, const std::vector<int>& support) {
   Eigen::VectorXd c(k);
   for (Eigen::Index i = 0; i < k; ++i) {
     c(i) = s.xty(support[static_cast<std::size_t>(i)]);
-    for (Eigen::Index j = 0; j < k; ++j) a(i, j) = s.xtx(support[static_cast<std::size_t>(i)], support[static_cast<std::size_t>(j)]);
+    for (Eigen::Index j = 0; j < k; ++j)
+      a(i, j) = s.xtx(support[static_cast<std::size_t>(i)], support[static_cast<std::size_t>(j)]);
   }
   a.diagonal().array() += 1e-8 * std::max(s.n, 1.0);
   return a.ldlt().solve(c);
@@ -61,7 +64,8 @@ double held_out_sse(const GramStats& s, const std::vector<int>& support, const E
   for (std::size_t i = 0; i < support.size(); ++i) {
     const auto bi = b(static_cast<Eigen::Index>(i));
     sse -= 2.0 * bi * s.xty(support[i]);
-    for (std::size_t j = 0; j < support.size(); ++j) sse += bi * b(static_cast<Eigen::Index>(j)) * s.xtx(support[i], support[j]);
+    for (std::size_t j = 0; j < support.size(); ++j)
+      sse += bi * b(static_cast<Eigen::Index>(j)) * s.xtx(support[i], support[j]);
   }
   return std::max(sse, 0.0);
 }
@@ -79,7 +83,8 @@ void GramStats::add(const GramStats& other) {
   n += other.n;
 }
 
-LassoPath::LassoPath(const std::vector<GramStats>& groups, const std::vector<int>& fold_of, int max_features, int steps)
+LassoPath::LassoPath(const std::vector<GramStats>& groups, const std::vector<int>& fold_of,
+                     int max_features, int steps)
     : groups_(groups), fold_of_(fold_of) {
   for (const GramStats& g : groups) all_.add(g);
   for (const GramStats& g : groups) empty_sse_ += g.yty;
@@ -130,7 +135,9 @@ std::vector<double> LassoPath::group_empty_sse() const {
 int LassoPath::choose(double share) const {
   int best = -1;
   for (std::size_t k = 0; k < steps_.size(); ++k) {
-    if (steps_[k].cv_sse < empty_sse_ && (best < 0 || steps_[k].cv_sse < steps_[static_cast<std::size_t>(best)].cv_sse)) best = static_cast<int>(k);
+    if (steps_[k].cv_sse < empty_sse_ &&
+        (best < 0 || steps_[k].cv_sse < steps_[static_cast<std::size_t>(best)].cv_sse))
+      best = static_cast<int>(k);
   }
   if (best < 0) return -1;
   const double needed = share * (empty_sse_ - steps_[static_cast<std::size_t>(best)].cv_sse);
@@ -139,7 +146,9 @@ int LassoPath::choose(double share) const {
     const PathStep& s = steps_[k];
     if (empty_sse_ - s.cv_sse < needed) continue;
     const PathStep& c = steps_[static_cast<std::size_t>(chosen)];
-    if (s.support.size() < c.support.size() || (s.support.size() == c.support.size() && s.cv_sse < c.cv_sse)) chosen = static_cast<int>(k);
+    if (s.support.size() < c.support.size() ||
+        (s.support.size() == c.support.size() && s.cv_sse < c.cv_sse))
+      chosen = static_cast<int>(k);
   }
   return chosen;
 }
@@ -151,9 +160,11 @@ PathStep LassoPath::with_support(const std::vector<int>& support) const {
   step.group_cv_sse.assign(groups_.size(), 0.0);
   for (std::size_t f = 0; f < train_.size(); ++f) {
     if (train_[f].n <= 0.0) continue;
-    const Eigen::VectorXd coefficients = support.empty() ? Eigen::VectorXd() : refit(train_[f], support);
+    const Eigen::VectorXd coefficients =
+        support.empty() ? Eigen::VectorXd() : refit(train_[f], support);
     for (std::size_t g = 0; g < groups_.size(); ++g) {
-      if (fold_of_[g] == static_cast<int>(f)) step.group_cv_sse[g] = held_out_sse(groups_[g], support, coefficients);
+      if (fold_of_[g] == static_cast<int>(f))
+        step.group_cv_sse[g] = held_out_sse(groups_[g], support, coefficients);
     }
   }
   for (const double sse : step.group_cv_sse) step.cv_sse += sse;

@@ -31,7 +31,8 @@ class LassoPath {
  public:
   // fold_of[g]: the fold in which group g is held out (0..folds-1). Steps with more than
   // max_features columns are not kept.
-  LassoPath(const std::vector<GramStats>& groups, const std::vector<int>& fold_of, int max_features, int steps = 40);
+  LassoPath(const std::vector<GramStats>& groups, const std::vector<int>& fold_of, int max_features,
+            int steps = 40);
 
   const std::vector<PathStep>& steps() const { return steps_; }
   double empty_sse() const { return empty_sse_; }  // held-out SSE of no feature at all (sum y'y)

@@ -10,10 +10,10 @@ namespace rig::model::explainer {
 
 struct ProbedSample {
   double x_mm = 0.0, t_s = 0.0, velocity_mm_s = 0.0, iop_mmHg = 0.0;
-  double force_N = 0.0;     // the model's tissue force (F of a user term)
+  double force_N = 0.0;  // the model's tissue force (F of a user term)
   double inserted_mm = 0.0, hold_s = 0.0;
   Phase phase = Phase::kApproach;
-  std::size_t i = 0;        // sample index in the run
+  std::size_t i = 0;  // sample index in the run
 };
 
 class SampleProbe final : public EffectTerm {

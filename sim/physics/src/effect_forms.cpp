@@ -11,13 +11,20 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kReferenceVelocity_mm_s = 2.0;
 constexpr double kReferenceIop_mmHg = 15.0;
 constexpr double kCovariateReference = 2.0;
-constexpr double kPresliding_mm = 0.1;  // LuGre: the blade's travel over which tissue grip builds to the static level
+constexpr double kPresliding_mm =
+    0.1;  // LuGre: the blade's travel over which tissue grip builds to the static level
 
-double sawtooth(double cycles) { return 2.0 * (cycles - std::floor(cycles)) - 1.0; }
-double logistic(double z) { return 1.0 / (1.0 + std::exp(-z)); }
+double sawtooth(double cycles) {
+  return 2.0 * (cycles - std::floor(cycles)) - 1.0;
+}
+double logistic(double z) {
+  return 1.0 / (1.0 + std::exp(-z));
+}
 
 // Carreau shear thinning: viscous stress ~ v (1 + (lambda v)^2)^((n-1)/2), lambda 1 s/mm, n 0.3.
-double carreau_stress(double v) { return v * std::pow(1.0 + v * v, -0.35); }
+double carreau_stress(double v) {
+  return v * std::pow(1.0 + v * v, -0.35);
+}
 
 }  // namespace
 
@@ -27,11 +34,15 @@ double rate_factor(const EffectSlot& slot, double v, bool after_puncture) {
   switch (slot.form) {
     case 0:  // carreau, cutting only
       if (!after_puncture) return 1.0;
-      return std::max(0.1, 1.0 + 0.45 * size * (carreau_stress(v) / carreau_stress(kReferenceVelocity_mm_s) - 1.0));
+      return std::max(
+          0.1,
+          1.0 + 0.45 * size * (carreau_stress(v) / carreau_stress(kReferenceVelocity_mm_s) - 1.0));
     case 1:  // power law with a cutoff: no rate effect below 1.5 mm/s
       return std::pow(std::max(v, 1.5) / kReferenceVelocity_mm_s, 0.35 * size);
     case 2:  // logarithmic at speed, linear when slow (Eyring: asinh(v / 0.6 mm/s))
-      return std::max(0.1, 1.0 + 0.3 * size * (std::asinh(v / 0.6) / std::asinh(kReferenceVelocity_mm_s / 0.6) - 1.0));
+      return std::max(
+          0.1, 1.0 + 0.3 * size *
+                         (std::asinh(v / 0.6) / std::asinh(kReferenceVelocity_mm_s / 0.6) - 1.0));
     default: {  // exponential saturation: the rate stiffening levels off past ~1.2 mm/s
       const auto rise = [](double speed) { return 1.0 - std::exp(-speed / 1.2); };
       return std::max(0.1, 1.0 + 0.3 * size * (rise(v) / rise(kReferenceVelocity_mm_s) - 1.0));
@@ -62,7 +73,8 @@ IopChange iop_change(const EffectSlot& slot, double iop_mmHg) {
 double friction_per_mm(const EffectSlot& slot, double v) {
   const double size = slot.size;
   const double speed = std::abs(v);
-  if (slot.form == 0) {  // Coulomb + a lubricating film's drag growing as sqrt(v), per inserted length
+  if (slot.form ==
+      0) {  // Coulomb + a lubricating film's drag growing as sqrt(v), per inserted length
     return size * (0.004 + 0.003 * std::sqrt(speed)) * std::tanh(v / 0.05);
   }
   return stribeck_curve_per_mm(slot, speed) * std::tanh(v / 0.02);
@@ -118,15 +130,19 @@ double relaxed_fraction(const EffectSlot& slot, double t) {
     case 0: {  // Fung's quasi-linear viscoelasticity: a box spectrum from 0.05 s to 20 s, C 0.08
       const auto e1 = [](double x) { return -std::expint(-x); };  // the exponential integral E1
       const double c = 0.08 * size, tau1 = 0.05, tau2 = 20.0;
-      return std::clamp(1.0 - (1.0 + c * (e1(t / tau2) - e1(t / tau1))) / (1.0 + c * std::log(tau2 / tau1)), 0.0, 0.9);
+      return std::clamp(
+          1.0 - (1.0 + c * (e1(t / tau2) - e1(t / tau1))) / (1.0 + c * std::log(tau2 / tau1)), 0.0,
+          0.9);
     }
     case 1:  // three-term Prony series: 0.1 s, 1 s, 8 s
-      fraction = 0.1 * (1.0 - std::exp(-t / 0.1)) + 0.12 * (1.0 - std::exp(-t)) + 0.15 * (1.0 - std::exp(-t / 8.0));
+      fraction = 0.1 * (1.0 - std::exp(-t / 0.1)) + 0.12 * (1.0 - std::exp(-t)) +
+                 0.15 * (1.0 - std::exp(-t / 8.0));
       break;
     default: {  // fractional Zener: Mittag-Leffler E_1/2(-(t/0.5 s)^1/2) = exp(z^2) erfc(z), 30 %
       const double z = std::sqrt(t / 0.5);
       // Past z = 5 (12.5 s) exp(z^2) overflows where erfc underflows: the asymptote instead.
-      const double remaining = z < 5.0 ? std::exp(z * z) * std::erfc(z) : (1.0 - 0.5 / (z * z)) / (z * std::sqrt(std::numbers::pi));
+      const double remaining = z < 5.0 ? std::exp(z * z) * std::erfc(z)
+                                       : (1.0 - 0.5 / (z * z)) / (z * std::sqrt(std::numbers::pi));
       return std::min(0.9, 0.3 * size * (1.0 - remaining));
     }
   }
@@ -141,7 +157,8 @@ CovariateChange covariate_change(const EffectSlot& slot, double value) {
       change.cutting_factor = 1.0 - 0.3 * slot.size * (logistic(dh / 0.5) - 0.5);
       break;
     case 1:  // hinge on every phase: no change below 1.5, then -10 % per unit
-      change.precut_factor = change.cutting_factor = std::max(0.1, 1.0 - 0.1 * slot.size * std::max(0.0, value - 1.5));
+      change.precut_factor = change.cutting_factor =
+          std::max(0.1, 1.0 - 0.1 * slot.size * std::max(0.0, value - 1.5));
       break;
     default:  // the puncture moves deeper: softer tissue yields later, levelling off
       change.puncture_shift_mm = 0.25 * slot.size * std::tanh(dh / 1.5);
@@ -162,12 +179,15 @@ double tearing_pattern(const EffectSlot& slot, double past_mm, double tear_cycle
 // 2026-11-28 the pattern was sawtooth(past / period(v now)): each percent of servo speed
 // ripple then moved the tenth tear by a tenth of a cycle, a jitter no tearing has.
 // A tear's length grows linearly with the speed, 0.35 mm at 2 mm/s (0.2 mm + 0.075 s v).
-double tearing_cycles_per_mm(double v) { return 1.0 / (0.2 + 0.075 * std::max(v, 0.1)); }
+double tearing_cycles_per_mm(double v) {
+  return 1.0 / (0.2 + 0.075 * std::max(v, 0.1));
+}
 
 double tearing_amplitude_N(const EffectSlot& slot, double v) {
   const double amplitude = 0.006 * slot.size;
   if (slot.form != 2) return amplitude;
-  return amplitude * std::pow(kReferenceVelocity_mm_s / std::max(v, 0.1), 0.7);  // stronger when slow
+  return amplitude *
+         std::pow(kReferenceVelocity_mm_s / std::max(v, 0.1), 0.7);  // stronger when slow
 }
 
 double drift_N(const EffectSlot& slot, double t, double random_walk_N) {
@@ -183,7 +203,8 @@ double drift_N(const EffectSlot& slot, double t, double random_walk_N) {
       const double at = 3.0 + 17.0 * slot.run_values[1];
       return 0.008 * size * logistic((t - at) / 0.005);
     }
-    default:  // warm-up of the gauge (1 s) against its housing (8 s): two time constants, an overshoot
+    default:  // warm-up of the gauge (1 s) against its housing (8 s): two time constants, an
+              // overshoot
       return 0.012 * size * (1.0 - 1.6 * std::exp(-t / 1.0) + 0.6 * std::exp(-t / 8.0));
   }
 }
@@ -212,7 +233,8 @@ double mains_N(const EffectSlot& slot, double t, double carriage_velocity_mm_s) 
   const double phase = kTwoPi * ((base_hz + offset_hz) * t + wander) + slot.phase_rad;
   switch (slot.form) {
     case 1:  // odd harmonics up to the 5th (rectifier loads)
-      return amplitude * (0.7 * std::sin(phase) + 0.35 * std::sin(3.0 * phase + 1.0) + 0.25 * std::sin(5.0 * phase + 2.0));
+      return amplitude * (0.7 * std::sin(phase) + 0.35 * std::sin(3.0 * phase + 1.0) +
+                          0.25 * std::sin(5.0 * phase + 2.0));
     case 2:  // picked up from the motor drive: only while the carriage moves
       return amplitude * std::min(1.0, std::abs(carriage_velocity_mm_s) / 0.5) * std::sin(phase);
     default:  // drifting 50 Hz, or 60 Hz

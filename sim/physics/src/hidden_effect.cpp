@@ -1,7 +1,7 @@
 #include "rig/sim/hidden_effect.hpp"
 
-#include <array>
 #include <algorithm>
+#include <array>
 #include <charconv>
 
 #include "rig/sim/active_effects.hpp"
@@ -17,15 +17,23 @@ struct EffectInfo {
 
 const std::array<EffectInfo, kEffectKindCount>& catalogue() {
   static const std::array<EffectInfo, kEffectKindCount> kInfo{{
-      {EffectKind::kRateDependence, "rate_dependence", {"carreau", "power_cutoff", "logarithmic", "exp_saturating"}},
+      {EffectKind::kRateDependence,
+       "rate_dependence",
+       {"carreau", "power_cutoff", "logarithmic", "exp_saturating"}},
       {EffectKind::kIopStiffness, "iop_stiffness", {"saturating", "prestress", "recruitment"}},
       {EffectKind::kShaftFriction, "shaft_friction", {"coulomb_viscous", "stribeck", "dahl"}},
-      {EffectKind::kRigCompliance, "rig_compliance", {"hardening", "softening", "backlash", "stiffening"}},
+      {EffectKind::kRigCompliance,
+       "rig_compliance",
+       {"hardening", "softening", "backlash", "stiffening"}},
       {EffectKind::kSensorDrift, "sensor_drift", {"thermal", "random_walk", "step", "warmup"}},
       {EffectKind::kSpatialRipple, "spatial_ripple", {"lead_error", "load_modulated", "sawtooth"}},
-      {EffectKind::kMainsInterference, "mains_interference", {"drifting", "harmonics", "motor_gated", "60hz"}},
+      {EffectKind::kMainsInterference,
+       "mains_interference",
+       {"drifting", "harmonics", "motor_gated", "60hz"}},
       {EffectKind::kStickSlip, "stick_slip", {"aperiodic", "growing", "velocity_weakening"}},
-      {EffectKind::kStressRelaxation, "stress_relaxation", {"fung_qlv", "prony3", "mittag_leffler"}},
+      {EffectKind::kStressRelaxation,
+       "stress_relaxation",
+       {"fung_qlv", "prony3", "mittag_leffler"}},
       {EffectKind::kCovariate, "covariate", {"sigmoid", "hinge_all", "puncture_shift"}},
   }};
   return kInfo;
@@ -40,7 +48,9 @@ std::string_view take_until(std::string_view& rest, char separator) {
 
 }  // namespace
 
-std::string effect_name(EffectKind kind) { return catalogue()[static_cast<int>(kind)].name; }
+std::string effect_name(EffectKind kind) {
+  return catalogue()[static_cast<int>(kind)].name;
+}
 
 std::vector<std::string> effect_forms(EffectKind kind) {
   return catalogue()[static_cast<int>(kind)].forms;
@@ -54,13 +64,15 @@ std::optional<HiddenEffect> parse_hidden_effect(std::string_view spec, std::stri
     const auto* end = rest.data() + rest.size();
     const auto parsed = std::from_chars(rest.data(), end, effect.size);
     if (parsed.ec != std::errc{} || parsed.ptr != end || effect.size < 0.0) {
-      error = "effect '" + std::string(spec) + "': size '" + std::string(rest) + "' is not a number >= 0";
+      error = "effect '" + std::string(spec) + "': size '" + std::string(rest) +
+              "' is not a number >= 0";
       return std::nullopt;
     }
   }
   const std::string_view name = take_until(head, ':');
   const auto& info = catalogue();
-  const auto* found = std::find_if(info.begin(), info.end(), [&](const EffectInfo& e) { return e.name == name; });
+  const auto* found =
+      std::find_if(info.begin(), info.end(), [&](const EffectInfo& e) { return e.name == name; });
   if (found == info.end()) {
     error = "effect '" + std::string(spec) + "': unknown effect name '" + std::string(name) + "'";
     return std::nullopt;
@@ -69,14 +81,16 @@ std::optional<HiddenEffect> parse_hidden_effect(std::string_view spec, std::stri
   if (effect.kind == EffectKind::kCovariate) {
     effect.covariate = std::string(take_until(head, ':'));
     if (effect.covariate.empty()) {
-      error = "effect '" + std::string(spec) + "': covariate needs a key, e.g. covariate:post_mortem_h";
+      error =
+          "effect '" + std::string(spec) + "': covariate needs a key, e.g. covariate:post_mortem_h";
       return std::nullopt;
     }
   }
   effect.form = std::string(head);
   if (!effect.form.empty() &&
       std::find(found->forms.begin(), found->forms.end(), effect.form) == found->forms.end()) {
-    error = "effect '" + std::string(spec) + "': unknown form '" + effect.form + "' of " + found->name;
+    error =
+        "effect '" + std::string(spec) + "': unknown form '" + effect.form + "' of " + found->name;
     return std::nullopt;
   }
   return effect;

@@ -23,9 +23,9 @@ void MotorScrew::step(double dt_s, double volts, bool enabled, double axial_load
                           p_.current_limit_A);
   const double motor_torque_Nm = p_.torque_constant_Nm_per_A * current_A_;
   // Axial force [N] seen at the motor shaft through screw (m/rad) and gearbox.
-  const double load_torque_Nm =
-      axial_load_N * (p_.screw_pitch_mm * 1e-3 / (2.0 * std::numbers::pi)) /
-      (p_.gear_ratio * p_.screw_efficiency);
+  const double load_torque_Nm = axial_load_N *
+                                (p_.screw_pitch_mm * 1e-3 / (2.0 * std::numbers::pi)) /
+                                (p_.gear_ratio * p_.screw_efficiency);
   constexpr double kStictionSpeed_rad_s = 0.5;  // smoothing of the Coulomb friction sign
   const double friction_Nm = p_.coulomb_Nm * std::tanh(omega_rad_s_ / kStictionSpeed_rad_s) +
                              p_.viscous_Nms_per_rad * omega_rad_s_;

@@ -14,7 +14,8 @@ RigPhysics::RigPhysics(const PhysicsParams& params, const std::vector<HiddenEffe
       sensors_(params.sensors, effects_, params.motor.screw_pitch_mm) {
   motor_.set_position_mm(params.tissue.surface_mm - 8.0);
   mount_new_eye(next_covariate_);
-  frame_ = sensors_.convert(TrueSignals{0.0, motor_.position_mm(), iop_.pressure_mmHg(), 0.0, 0.0, 0.0}, rng_);
+  frame_ = sensors_.convert(
+      TrueSignals{0.0, motor_.position_mm(), iop_.pressure_mmHg(), 0.0, 0.0, 0.0}, rng_);
 }
 
 void RigPhysics::mount_new_eye(double covariate_value) {
@@ -28,7 +29,8 @@ void RigPhysics::mount_new_eye(double covariate_value) {
 
 bool RigPhysics::watchdog_tripped() const {
   // Half a step of slack: silence is a whole number of steps, summed in floating point.
-  return watchdog_trip_latched_ || (watchdog_s_ > 0.0 && time_s_ - last_write_s_ > watchdog_s_ + 0.5 * params_.step_s);
+  return watchdog_trip_latched_ ||
+         (watchdog_s_ > 0.0 && time_s_ - last_write_s_ > watchdog_s_ + 0.5 * params_.step_s);
 }
 
 bool RigPhysics::motor_powered() const {
@@ -70,7 +72,8 @@ void RigPhysics::write_outputs(const drivers::DriveCommand& drive,
 drivers::DigitalInputs RigPhysics::digital_inputs() const {
   drivers::DigitalInputs inputs;
   const double x = motor_.position_mm();
-  inputs.home_limit = !faults_.home_switch_broken && (faults_.home_limit_forced || x <= params_.switches.home_switch_mm);
+  inputs.home_limit = !faults_.home_switch_broken &&
+                      (faults_.home_limit_forced || x <= params_.switches.home_switch_mm);
   inputs.end_limit = faults_.end_limit_forced || x >= params_.switches.end_switch_mm;
   inputs.estop = faults_.estop_pressed;
   inputs.drive_fault = faults_.drive_fault;
@@ -82,7 +85,8 @@ void RigPhysics::maybe_swap_eye() {
   // The technician mounts a fresh eye once a cut eye is out of reach and the carriage rests.
   const bool outside = tissue_.tip_depth_mm() < -0.5;
   const bool resting = std::abs(motor_.velocity_mm_s()) < 0.01;
-  outside_idle_s_ = (outside && resting && tissue_.punctured()) ? outside_idle_s_ + params_.step_s : 0.0;
+  outside_idle_s_ =
+      (outside && resting && tissue_.punctured()) ? outside_idle_s_ + params_.step_s : 0.0;
   if (auto_new_eye_ && outside_idle_s_ > 0.5) mount_new_eye(next_covariate_);
 }
 
@@ -105,8 +109,12 @@ void RigPhysics::step_once() {
   time_s_ += dt;
   maybe_swap_eye();
 
-  TrueSignals truth{tissue_.force_N() + faults_.extra_force_N, motor_.position_mm() + faults_.position_offset_mm,
-                    iop_.pressure_mmHg(), time_s_, time_s_ - eye_mounted_s_, motor_.velocity_mm_s()};
+  TrueSignals truth{tissue_.force_N() + faults_.extra_force_N,
+                    motor_.position_mm() + faults_.position_offset_mm,
+                    iop_.pressure_mmHg(),
+                    time_s_,
+                    time_s_ - eye_mounted_s_,
+                    motor_.velocity_mm_s()};
   sensors_.advance(dt);
   const drivers::AnalogFrame fresh = sensors_.convert(truth, rng_);
   const double stuck_force_V = frame_.force_volts;

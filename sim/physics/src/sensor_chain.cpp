@@ -10,7 +10,8 @@ double SensorChain::instrument_force_N(const TrueSignals& truth) const {
   const EffectSlot& drift = (*effects_)[EffectKind::kSensorDrift];
   if (drift.on) force += forms::drift_N(drift, truth.run_time_s, random_walk_N_);
   const EffectSlot& ripple = (*effects_)[EffectKind::kSpatialRipple];
-  if (ripple.on) force += forms::ripple_N(ripple, truth.carriage_mm, screw_pitch_mm_, truth.force_N);
+  if (ripple.on)
+    force += forms::ripple_N(ripple, truth.carriage_mm, screw_pitch_mm_, truth.force_N);
   const EffectSlot& mains = (*effects_)[EffectKind::kMainsInterference];
   if (mains.on) force += forms::mains_N(mains, truth.time_s, truth.carriage_velocity_mm_s);
   return force;

@@ -9,9 +9,10 @@ namespace rig::sim {
 namespace {
 
 constexpr double kReferenceVelocity_mm_s = 2.0;
-constexpr double kRelaxRecovery_mm = 0.15;   // advancing this far replaces relaxed tissue by fresh
-constexpr double kTearSpacing_mm = 0.35;     // mean spacing of aperiodic tears
-constexpr double kHoldTolerance_mm = 0.05;   // how far a held blade may settle without ending the hold
+constexpr double kRelaxRecovery_mm = 0.15;  // advancing this far replaces relaxed tissue by fresh
+constexpr double kTearSpacing_mm = 0.35;    // mean spacing of aperiodic tears
+constexpr double kHoldTolerance_mm =
+    0.05;  // how far a held blade may settle without ending the hold
 
 double interpolate(const double* xs, const double* ys, int n, double x) {
   if (x <= xs[0]) return ys[0];
@@ -75,7 +76,8 @@ double TissueTruth::cutting_force(double tip_mm, double iop_mmHg) const {
   const double xc = std::min(p_.cut_end_mm, xpf - 1e-3);
   double cutting_scale = eye_cutting_;
   const EffectSlot& cov = (*effects_)[EffectKind::kCovariate];
-  if (cov.on) cutting_scale *= forms::covariate_change(cov, effects_->covariate_value()).cutting_factor;
+  if (cov.on)
+    cutting_scale *= forms::covariate_change(cov, effects_->covariate_value()).cutting_factor;
   auto plateau = [&](double x) {
     const double arg = std::max(x - p_.cut_log_origin_mm, 1e-3);
     return cutting_scale * (p_.cut_log_gain_N * (std::log(arg) - p_.cut_linear_per_mm * x) +
@@ -93,12 +95,14 @@ double TissueTruth::cutting_force(double tip_mm, double iop_mmHg) const {
 
 double TissueTruth::tearing_force(double tip_mm) const {
   const EffectSlot& stick = (*effects_)[EffectKind::kStickSlip];
-  const bool cutting = punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm;
+  const bool cutting =
+      punctured_ && tip_mm > punctured_at_mm_ + p_.drop_width_mm && tip_mm < p_.cut_end_mm;
   // A held blade keeps the tear it has built up; servo jitter of micrometres backwards does
   // not let it go (until 2026-11-28 1 um did, and the force stepped mid-hold); withdrawing does.
   if (!stick.on || !cutting || tip_mm < front_mm_ - kHoldTolerance_mm) return 0.0;
   const double amplitude = forms::tearing_amplitude_N(stick, advance_velocity_mm_s_);
-  if (stick.form != 0) return amplitude * forms::tearing_pattern(stick, tip_mm - punctured_at_mm_, tear_cycles_);
+  if (stick.form != 0)
+    return amplitude * forms::tearing_pattern(stick, tip_mm - punctured_at_mm_, tear_cycles_);
   // Aperiodic: each tear builds up over its own length, then lets go.
   const double length = std::max(tear_to_mm_ - tear_from_mm_, 1e-6);
   return amplitude * (2.0 * std::clamp((tip_mm - tear_from_mm_) / length, 0.0, 1.0) - 1.0);
@@ -154,7 +158,8 @@ double TissueTruth::solve_tip(const TissueInput& input) const {
   };
   if (gap(carriage) >= 0.0) return carriage;
   double ahead = carriage;
-  double behind = carriage - forms::compliance_lag_mm(compliance, force_N_);  // near last step's balance
+  double behind =
+      carriage - forms::compliance_lag_mm(compliance, force_N_);  // near last step's balance
   if (behind >= ahead || gap(behind) < 0.0) behind = 0.0;
   for (int i = 0; i < 40 && ahead - behind > 1e-7; ++i) {  // to 0.1 um
     const double mid = 0.5 * (ahead + behind);
@@ -168,7 +173,9 @@ void TissueTruth::track_relaxation(bool held, double advanced_mm, double dt_s) {
   if (held) {
     if (hold_s_ <= 0.0) relaxed_at_hold_start_ = relaxed_;
     hold_s_ += dt_s;
-    if (relax.on) relaxed_ = 1.0 - (1.0 - relaxed_at_hold_start_) * (1.0 - forms::relaxed_fraction(relax, hold_s_));
+    if (relax.on)
+      relaxed_ =
+          1.0 - (1.0 - relaxed_at_hold_start_) * (1.0 - forms::relaxed_fraction(relax, hold_s_));
   } else if (advanced_mm > 0.0) {
     hold_s_ = 0.0;
     relaxed_ *= std::exp(-advanced_mm / kRelaxRecovery_mm);  // fresh tissue carries the load again
@@ -187,7 +194,8 @@ void TissueTruth::track_tearing() {
 void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   const double tip = tip_mm_;
   if (input.velocity_mm_s > 0.1) {
-    advance_velocity_mm_s_ += (input.velocity_mm_s - advance_velocity_mm_s_) * std::min(1.0, input.dt_s / 0.02);
+    advance_velocity_mm_s_ +=
+        (input.velocity_mm_s - advance_velocity_mm_s_) * std::min(1.0, input.dt_s / 0.02);
   }
   // Held: the blade neither advances past where the hold began nor withdraws from its deepest
   // point by more than 50 um. Servo jitter of a few um does not end a hold, in either
@@ -199,7 +207,8 @@ void TissueTruth::track_motion(const TissueInput& input, RandomSource& rng) {
   // Creep is slower than 0.05 mm/s (10x below the slowest cut): a cut goes on cutting.
   constexpr double kCreepSpeed_mm_s = 0.05;
   const bool at_front = tip > 0.0 && tip <= front_mm_ && tip >= front_mm_ - kHoldTolerance_mm;
-  const bool creeping = hold_s_ > 0.0 && tip > front_mm_ && tip <= hold_front_mm_ + kHoldTolerance_mm &&
+  const bool creeping = hold_s_ > 0.0 && tip > front_mm_ &&
+                        tip <= hold_front_mm_ + kHoldTolerance_mm &&
                         std::abs(input.velocity_mm_s) < kCreepSpeed_mm_s;
   const bool held = at_front || creeping;
   if (held && hold_s_ <= 0.0) hold_front_mm_ = front_mm_;
@@ -244,10 +253,13 @@ double TissueTruth::update(const TissueInput& input, RandomSource& rng) {
   const EffectSlot& friction = (*effects_)[EffectKind::kShaftFriction];
   if (friction.on && friction.form != 0 && punctured_ && previous_tip > -1.0) {
     const double dx_mm = tip_mm_ - previous_tip;
-    friction_state_N_per_mm_ += friction.form == 1 ? forms::lugre_step(friction, friction_state_N_per_mm_, dx_mm, std::abs(input.velocity_mm_s))
-                                                   : forms::dahl_step(friction, friction_state_N_per_mm_, dx_mm);
+    friction_state_N_per_mm_ += friction.form == 1
+                                    ? forms::lugre_step(friction, friction_state_N_per_mm_, dx_mm,
+                                                        std::abs(input.velocity_mm_s))
+                                    : forms::dahl_step(friction, friction_state_N_per_mm_, dx_mm);
   }
-  const double tissue = force_at(tip_mm_, input.iop_mmHg) + friction_force(tip_mm_, input.velocity_mm_s);
+  const double tissue =
+      force_at(tip_mm_, input.iop_mmHg) + friction_force(tip_mm_, input.velocity_mm_s);
   force_N_ = tissue + extra_force(input, tissue);
   return force_N_;
 }

@@ -12,16 +12,16 @@ namespace rig::drivers {
 enum class PixelFormat : std::uint8_t { kMono8, kRgb8, kYuyv };
 
 struct CameraSettings {
-  int width = 640;               // [px]
-  int height = 480;              // [px]
-  int offset_x = 0;              // ROI origin [px]
+  int width = 640;   // [px]
+  int height = 480;  // [px]
+  int offset_x = 0;  // ROI origin [px]
   int offset_y = 0;
-  double exposure_us = 1000.0;   // [us]
-  double frame_rate_hz = 30.0;   // free-run rate when not triggered [Hz]
-  bool hardware_trigger = false; // exposure on the GPIO trigger line
-  bool software_trigger = false; // exposure on trigger_software()
-  int packet_size = 1400;        // GigE stream packet size [B]
-  int buffer_count = 16;         // frames in the pool
+  double exposure_us = 1000.0;    // [us]
+  double frame_rate_hz = 30.0;    // free-run rate when not triggered [Hz]
+  bool hardware_trigger = false;  // exposure on the GPIO trigger line
+  bool software_trigger = false;  // exposure on trigger_software()
+  int packet_size = 1400;         // GigE stream packet size [B]
+  int buffer_count = 16;          // frames in the pool
   PixelFormat pixel_format = PixelFormat::kMono8;
 };
 
@@ -37,7 +37,7 @@ struct FrameView {
 
 struct CameraCounters {
   std::uint64_t frames = 0;
-  std::uint64_t dropped = 0;        // buffers lost or incomplete
+  std::uint64_t dropped = 0;  // buffers lost or incomplete
   std::uint64_t missing_packets = 0;
   std::uint64_t resent_packets = 0;
 };

@@ -17,16 +17,28 @@ struct HapticLimits {
   double max_stiffness_N_per_mm = 0.0;  // HD_NOMINAL_MAX_STIFFNESS
 };
 
-enum class HapticFault : std::uint8_t { kNone, kWarmMotors, kExceededMaxForce, kExceededMaxVelocity,
-                                        kCommError, kOther };
+enum class HapticFault : std::uint8_t {
+  kNone,
+  kWarmMotors,
+  kExceededMaxForce,
+  kExceededMaxVelocity,
+  kCommError,
+  kOther
+};
 inline const char* to_string(HapticFault fault) noexcept {
   switch (fault) {
-    case HapticFault::kNone: return "none";
-    case HapticFault::kWarmMotors: return "motors too warm (HD_WARM_MOTORS): force off, let the device cool";
-    case HapticFault::kExceededMaxForce: return "maximum force exceeded (HD_EXCEEDED_MAX_FORCE): force off";
-    case HapticFault::kExceededMaxVelocity: return "maximum velocity exceeded (HD_EXCEEDED_MAX_VELOCITY): force off";
-    case HapticFault::kCommError: return "device communication error (HD_COMM_ERROR): force off, check the cable";
-    case HapticFault::kOther: return "device error: force off";
+    case HapticFault::kNone:
+      return "none";
+    case HapticFault::kWarmMotors:
+      return "motors too warm (HD_WARM_MOTORS): force off, let the device cool";
+    case HapticFault::kExceededMaxForce:
+      return "maximum force exceeded (HD_EXCEEDED_MAX_FORCE): force off";
+    case HapticFault::kExceededMaxVelocity:
+      return "maximum velocity exceeded (HD_EXCEEDED_MAX_VELOCITY): force off";
+    case HapticFault::kCommError:
+      return "device communication error (HD_COMM_ERROR): force off, check the cable";
+    case HapticFault::kOther:
+      return "device error: force off";
   }
   return "unknown";
 }
@@ -45,9 +57,9 @@ class HapticDevice {
   virtual ~HapticDevice() = default;
   virtual std::string describe() const = 0;
   virtual HapticLimits limits() const noexcept = 0;  // read from the device at run time
-  virtual void start(HapticServo& servo) = 0;          // setup: throws with a clear message
+  virtual void start(HapticServo& servo) = 0;        // setup: throws with a clear message
   virtual void stop() noexcept = 0;
-  virtual void force_off() noexcept = 0;               // safety: zero force now, from any thread
+  virtual void force_off() noexcept = 0;  // safety: zero force now, from any thread
   virtual std::uint64_t ticks() const noexcept = 0;
   virtual bool running() const noexcept = 0;  // the servo is being called
   // Time from the servo's force command to that force at the hand [s] (transport and

@@ -15,14 +15,14 @@ inline constexpr std::uint16_t kProtocolVersion = 1;
 
 // Input registers (function 4): one read per loop cycle.
 namespace input {
-inline constexpr int kSequence = 0;        // u32 conversion counter
-inline constexpr int kForceVolts = 2;      // f32 load-cell amplifier [V]
-inline constexpr int kPositionVolts = 4;   // f32 potentiometer [V]
-inline constexpr int kIopVolts = 6;        // f32 IOP transducer [V]
-inline constexpr int kDigitalInputs = 8;   // u16 bit field, see bits below
-inline constexpr int kDaqTimeUs = 9;       // u32 DAQ clock [us], wraps
-inline constexpr int kVersion = 11;        // u16 protocol version
-inline constexpr int kCount = 12;          // registers read per cycle
+inline constexpr int kSequence = 0;       // u32 conversion counter
+inline constexpr int kForceVolts = 2;     // f32 load-cell amplifier [V]
+inline constexpr int kPositionVolts = 4;  // f32 potentiometer [V]
+inline constexpr int kIopVolts = 6;       // f32 IOP transducer [V]
+inline constexpr int kDigitalInputs = 8;  // u16 bit field, see bits below
+inline constexpr int kDaqTimeUs = 9;      // u32 DAQ clock [us], wraps
+inline constexpr int kVersion = 11;       // u16 protocol version
+inline constexpr int kCount = 12;         // registers read per cycle
 }  // namespace input
 
 namespace input_bit {
@@ -64,18 +64,21 @@ inline constexpr int kPositionOffsetMm = 112;  // f32 [mm]: potentiometer reads 
 inline constexpr int kHomeSwitchBroken = 114;  // u16 0/1: the home switch never closes
 inline constexpr int kRejectWrites = 115;      // u16 0/1: output-block writes get exception 4
 inline constexpr int kRestartDaq = 116;        // u16 write a new non-zero value: the DAQ reboots
-inline constexpr int kTripWatchdog = 117;      // u16 write a new non-zero value: the DAQ's watchdog trips
-inline constexpr int kIopLeak = 118;           // f32 [0..1]: fraction of the pump's pressure a leak loses (burst line)
+inline constexpr int kTripWatchdog =
+    117;  // u16 write a new non-zero value: the DAQ's watchdog trips
+inline constexpr int kIopLeak =
+    118;  // f32 [0..1]: fraction of the pump's pressure a leak loses (burst line)
 inline constexpr int kCount = 20;
 }  // namespace sim_panel
 
 namespace sim_truth {
-inline constexpr int kCarriageMm = 100;        // f32
-inline constexpr int kForceN = 102;            // f32 true tissue force
-inline constexpr int kMotorPowered = 104;      // u16 0/1
-inline constexpr int kMotorOffTimeUs = 105;    // u32 accountable time [us] motor power last went off
-inline constexpr int kSimTimeUs = 107;         // u32 accountable time [us]: sim time less rig-sim's own stalls
-inline constexpr int kTipDepthMm = 109;        // f32
+inline constexpr int kCarriageMm = 100;      // f32
+inline constexpr int kForceN = 102;          // f32 true tissue force
+inline constexpr int kMotorPowered = 104;    // u16 0/1
+inline constexpr int kMotorOffTimeUs = 105;  // u32 accountable time [us] motor power last went off
+inline constexpr int kSimTimeUs =
+    107;  // u32 accountable time [us]: sim time less rig-sim's own stalls
+inline constexpr int kTipDepthMm = 109;  // f32
 inline constexpr int kCount = 11;
 }  // namespace sim_truth
 

@@ -14,10 +14,10 @@ inline constexpr int kEffectKindCount = 10;
 
 struct EffectSlot {
   bool on = false;
-  int form = 0;           // index into effect_forms(kind)
-  double size = 1.0;      // multiple of the nominal magnitude
-  double phase_rad = 0.0; // per-run phase (ripple, mains, stick-slip)
-  double run_factor = 1.0;  // per-run signed factor (drift direction and rate)
+  int form = 0;                                 // index into effect_forms(kind)
+  double size = 1.0;                            // multiple of the nominal magnitude
+  double phase_rad = 0.0;                       // per-run phase (ripple, mains, stick-slip)
+  double run_factor = 1.0;                      // per-run signed factor (drift direction and rate)
   double run_values[4] = {0.5, 0.5, 0.5, 0.5};  // per-run uniform draws (time constants, times)
 };
 

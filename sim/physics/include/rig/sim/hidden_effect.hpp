@@ -10,16 +10,16 @@
 namespace rig::sim {
 
 enum class EffectKind {
-  kRateDependence,    // force grows with keratome velocity
-  kIopStiffness,      // pre-cut stiffness grows with IOP
-  kShaftFriction,     // friction along the inserted blade, opposes motion
-  kRigCompliance,     // tip lags the carriage by F/k
-  kSensorDrift,       // load-cell offset wanders during a run
-  kSpatialRipple,     // periodic in carriage position (lead-screw pitch)
-  kMainsInterference, // 50/60 Hz on the force channel
-  kStickSlip,         // periodic tearing during the cut
-  kStressRelaxation,  // force decays during a hold
-  kCovariate,         // a run covariate (metadata) scales the cutting force
+  kRateDependence,     // force grows with keratome velocity
+  kIopStiffness,       // pre-cut stiffness grows with IOP
+  kShaftFriction,      // friction along the inserted blade, opposes motion
+  kRigCompliance,      // tip lags the carriage by F/k
+  kSensorDrift,        // load-cell offset wanders during a run
+  kSpatialRipple,      // periodic in carriage position (lead-screw pitch)
+  kMainsInterference,  // 50/60 Hz on the force channel
+  kStickSlip,          // periodic tearing during the cut
+  kStressRelaxation,   // force decays during a hold
+  kCovariate,          // a run covariate (metadata) scales the cutting force
 };
 
 struct HiddenEffect {

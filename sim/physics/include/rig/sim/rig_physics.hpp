@@ -21,17 +21,21 @@ namespace rig::sim {
 
 // Faults a test (or the demo's test panel) can inject into the rig itself.
 struct InjectedFaults {
-  bool estop_pressed = false;      // the e-stop button (no hardware relay is modelled)
-  bool stuck_force = false;        // load-cell channel freezes at its last value
-  bool end_limit_forced = false;   // end switch closed regardless of position
+  bool estop_pressed = false;     // the e-stop button (no hardware relay is modelled)
+  bool stuck_force = false;       // load-cell channel freezes at its last value
+  bool end_limit_forced = false;  // end switch closed regardless of position
   bool home_limit_forced = false;
-  double extra_force_N = 0.0;      // collision / overload added to the load cell
-  double iop_leak_fraction = 0.0;  // a burst line or torn eye: the pressure the pump can hold falls by this fraction
-  bool drive_fault = false;        // the drive flags a fault (e.g. over-temperature) and keeps its power stage on
-  bool carriage_jammed = false;    // the lead screw seizes: the carriage stops whatever the motor does
-  double position_offset_mm = 0.0; // the potentiometer reads this much further (slipped coupling)
-  bool home_switch_broken = false; // the home switch never closes
-  bool writes_rejected = false;    // the DAQ refuses writes to its outputs (answers with an exception)
+  double extra_force_N = 0.0;  // collision / overload added to the load cell
+  double iop_leak_fraction =
+      0.0;  // a burst line or torn eye: the pressure the pump can hold falls by this fraction
+  bool drive_fault =
+      false;  // the drive flags a fault (e.g. over-temperature) and keeps its power stage on
+  bool carriage_jammed =
+      false;  // the lead screw seizes: the carriage stops whatever the motor does
+  double position_offset_mm = 0.0;  // the potentiometer reads this much further (slipped coupling)
+  bool home_switch_broken = false;  // the home switch never closes
+  bool writes_rejected =
+      false;  // the DAQ refuses writes to its outputs (answers with an exception)
 };
 
 struct RigTruth {
@@ -43,9 +47,11 @@ struct RigTruth {
   double iop_mmHg = 0.0;
   bool punctured = false;
   bool motor_powered = false;
-  double motor_off_time_s = -1.0;   // last time motor power went from on to off [s, accountable time]
+  double motor_off_time_s =
+      -1.0;  // last time motor power went from on to off [s, accountable time]
   // time_s less the stalls of rig-sim itself (excuse_own_stall) [s]: the clock that latencies
-  // of rigd are measured on, so that a busy host's preemption of the simulator is not blamed on rigd.
+  // of rigd are measured on, so that a busy host's preemption of the simulator is not blamed on
+  // rigd.
   double accountable_time_s = 0.0;
   bool watchdog_tripped = false;
   std::uint64_t camera_trigger_edges = 0;
@@ -63,7 +69,8 @@ class RigPhysics {
   void set_watchdog_ms(int watchdog_ms) { watchdog_s_ = watchdog_ms * 1e-3; }
   // The DAQ reboots: outputs off, watchdog off, its conversion counter starts again at 0.
   void restart_daq();
-  // The DAQ's watchdog trips as if rigd had fallen silent: outputs off, flag set until the next write.
+  // The DAQ's watchdog trips as if rigd had fallen silent: outputs off, flag set until the next
+  // write.
   void trip_watchdog();
   // The simulator itself was off the CPU for stall_s [s] (a busy host) and is about to catch up:
   // the world moves on through it, as a real one would, but a real DAQ, never preempted, heard
@@ -85,7 +92,9 @@ class RigPhysics {
   void set_iop(double iop_mmHg) { iop_.set_pressure_mmHg(iop_mmHg); }
   void set_next_eye_covariate(double value) { next_covariate_ = value; }
   // A force law from outside the effect catalogue (sim/zoo), on every eye until replaced.
-  void set_extra_force(std::shared_ptr<const ExtraForce> law) { tissue_.set_extra_force(std::move(law)); }
+  void set_extra_force(std::shared_ptr<const ExtraForce> law) {
+    tissue_.set_extra_force(std::move(law));
+  }
 
  private:
   void step_once();
@@ -109,8 +118,8 @@ class RigPhysics {
   double last_write_s_ = 0.0;
   double watchdog_s_ = 0.0;
   bool watchdog_trip_latched_ = false;  // trip_watchdog(), until a write with the motor off
-  double motor_off_time_s_ = -1.0;  // [s, accountable time]
-  double excused_stalls_s_ = 0.0;   // sum of excuse_own_stall() [s]
+  double motor_off_time_s_ = -1.0;      // [s, accountable time]
+  double excused_stalls_s_ = 0.0;       // sum of excuse_own_stall() [s]
   bool was_powered_ = false;
   bool auto_new_eye_ = true;
   double outside_idle_s_ = 0.0;

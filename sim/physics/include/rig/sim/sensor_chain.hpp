@@ -10,11 +10,11 @@
 namespace rig::sim {
 
 struct TrueSignals {
-  double force_N = 0.0;        // axial force on the keratome
-  double carriage_mm = 0.0;    // carriage position from home
+  double force_N = 0.0;      // axial force on the keratome
+  double carriage_mm = 0.0;  // carriage position from home
   double iop_mmHg = 0.0;
-  double time_s = 0.0;         // simulation time
-  double run_time_s = 0.0;     // time since the eye was mounted
+  double time_s = 0.0;      // simulation time
+  double run_time_s = 0.0;  // time since the eye was mounted
   double carriage_velocity_mm_s = 0.0;
 };
 

@@ -16,7 +16,7 @@ struct TissueInput {
   double velocity_mm_s = 0.0;      // carriage velocity (+ into the eye)
   double iop_mmHg = 15.0;          // current line pressure
   double dt_s = 1e-4;
-  double run_time_s = 0.0;         // since the eye was mounted
+  double run_time_s = 0.0;  // since the eye was mounted
 };
 
 class TissueTruth {
@@ -24,7 +24,7 @@ class TissueTruth {
   TissueTruth(const TissueParams& params, const ActiveEffects& effects)
       : p_(params), effects_(&effects) {}
 
-  void new_eye(RandomSource& rng);  // a fresh, intact cornea
+  void new_eye(RandomSource& rng);                             // a fresh, intact cornea
   double update(const TissueInput& input, RandomSource& rng);  // returns force [N]
 
   double force_N() const { return force_N_; }
@@ -55,22 +55,22 @@ class TissueTruth {
   TissueParams p_;
   const ActiveEffects* effects_;
   bool punctured_ = false;
-  double front_mm_ = 0.0;           // deepest tip depth reached
+  double front_mm_ = 0.0;  // deepest tip depth reached
   double tip_mm_ = -1.0;
   double force_N_ = 0.0;
   double advance_velocity_mm_s_ = 2.0;  // smoothed velocity of the last advance
-  double hold_s_ = 0.0;             // time at rest at the front
-  double hold_front_mm_ = 0.0;      // the front when the current hold began [mm]
-  double tear_N_ = 0.0;             // AR(1) tearing fluctuation
-  double eye_stiffness_ = 1.0;      // per-eye variability factor
+  double hold_s_ = 0.0;                 // time at rest at the front
+  double hold_front_mm_ = 0.0;          // the front when the current hold began [mm]
+  double tear_N_ = 0.0;                 // AR(1) tearing fluctuation
+  double eye_stiffness_ = 1.0;          // per-eye variability factor
   double eye_xpi_shift_mm_ = 0.0;
   double eye_cutting_ = 1.0;
-  double punctured_at_mm_ = 0.0;   // where the blade entered
-  double tear_cycles_ = 0.0;       // periodic tearing: tears completed since the puncture
-  double relaxed_ = 0.0;           // relaxed fraction of the tissue force (stress_relaxation)
+  double punctured_at_mm_ = 0.0;  // where the blade entered
+  double tear_cycles_ = 0.0;      // periodic tearing: tears completed since the puncture
+  double relaxed_ = 0.0;          // relaxed fraction of the tissue force (stress_relaxation)
   double relaxed_at_hold_start_ = 0.0;
   double friction_state_N_per_mm_ = 0.0;  // LuGre / Dahl friction state per inserted length
-  double tear_from_mm_ = 0.0;      // aperiodic tearing: the current tear's start and end
+  double tear_from_mm_ = 0.0;             // aperiodic tearing: the current tear's start and end
   double tear_to_mm_ = 0.0;
   std::shared_ptr<const ExtraForce> extra_;
 };
