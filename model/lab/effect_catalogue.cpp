@@ -92,6 +92,10 @@ effects::CovariateRange covariate_stats(const std::string& key,
   if (!(out.low <= out.high)) {  // no samples, or no number among them: no range to hold to
     out.low = -std::numeric_limits<double>::infinity();
     out.high = std::numeric_limits<double>::infinity();
+  } else if (values.size() > 1 && std::all_of(values.begin(), values.end(), [](double v) {
+               return std::abs(v - std::round(v)) < 1e-9;
+             })) {  // a count (blade uses, run order): one run's spacing past the edges
+    out.reach = (out.high - out.low) / static_cast<double>(values.size() - 1);
   }
   return out;
 }
@@ -274,6 +278,7 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& set
   const auto spread = setting.params.find("spread");
   const auto low = setting.params.find("low");
   const auto high = setting.params.find("high");
+  const auto reach = setting.params.find("reach");
   const bool saved_covariate = setting.name.rfind("covariate:", 0) == 0 &&
                                mean != setting.params.end() && spread != setting.params.end();
   auto build = [&](int form) -> std::unique_ptr<EffectTerm> {
@@ -285,13 +290,14 @@ std::unique_ptr<EffectTerm> EffectCatalogue::make_saved(const EffectSetting& set
       if (low != setting.params.end())
         range.low = low->second;  // files before 2026-11-28 have none
       if (high != setting.params.end()) range.high = high->second;
+      if (reach != setting.params.end()) range.reach = reach->second;  // since 2026-12-07
       // From a file a person may have edited: a range the term cannot hold to is an error
       // naming the effect, not a division by zero or an inverted clamp.
-      if (!(range.spread > 0.0) || !(range.low <= range.high)) {
+      if (!(range.spread > 0.0) || !(range.low <= range.high) || !(range.reach >= 0.0)) {
         throw std::invalid_argument(
-            "effect '" + setting.name + "': needs spread > 0 and low <= high (spread " +
+            "effect '" + setting.name + "': needs spread > 0, low <= high and reach >= 0 (spread " +
             std::to_string(range.spread) + ", low " + std::to_string(range.low) + ", high " +
-            std::to_string(range.high) + ")");
+            std::to_string(range.high) + ", reach " + std::to_string(range.reach) + ")");
       }
       return std::make_unique<effects::CovariateScaling>(
           setting.name.substr(10), range, form < 0 ? effects::CovariateScaling::kPerPhase : form);

@@ -97,6 +97,12 @@ class EffectTerm {
   virtual std::vector<std::string> forms() const { return {}; }
   virtual std::string form() const { return ""; }
 
+  // Whether this term only scales whole runs by a number fixed per run, which each eye's own
+  // tissue scales take up within eyes: then only unseen eyes (the population channel) are
+  // evidence for it, and what it gains within eyes is the shared fit less bent by the eyes'
+  // differences, which any number that follows them by chance gains too (diagnosis.cpp).
+  virtual bool judged_on_unseen_eyes_alone() const { return false; }
+
   // The shared parameters (fitted values `p`) through which this term sets a run's tissue
   // scale or puncture depth from a number fixed per run (its velocity, IOP, a covariate):
   // they explain part of what would be eye variation, and take that many degrees of freedom

@@ -89,6 +89,7 @@ std::vector<EffectSetting> ModelFamily::settings(const ModelParams& params) cons
       setting.params["spread"] = cov->range().spread;
       if (std::isfinite(cov->range().low)) setting.params["low"] = cov->range().low;
       if (std::isfinite(cov->range().high)) setting.params["high"] = cov->range().high;
+      if (cov->range().reach > 0.0) setting.params["reach"] = cov->range().reach;
     }
     out.push_back(std::move(setting));
   }

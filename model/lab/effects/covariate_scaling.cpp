@@ -113,7 +113,8 @@ std::string CovariateScaling::evidence(const EvidenceInput& in) const {
   const double per_unit = 100.0 * p[0] / range_.spread;  // the slope at the mean [% per unit]
   std::string span = format(" (runs span %.3g +- %.3g", range_.mean, range_.spread);
   if (std::isfinite(range_.low) && std::isfinite(range_.high))
-    span += format("; held to %.3g..%.3g, the values fitted on", range_.low, range_.high);
+    span += format("; held to %.3g..%.3g, the values fitted on, and %.3g past them", range_.low,
+                   range_.high, range_.reach);
   span += ")";
   std::string text;
   switch (form_) {

@@ -43,12 +43,16 @@ class CovariateScaling final : public FamilyTerm {
   EyeDof eye_level_params(const double* p) const override;
   std::vector<std::size_t> puncture_regressors(const PreparedRun& run,
                                                std::vector<double>& values) const override;
+  // A scaling form acts on whole runs; moving the puncture reaches past an eye's own shift.
+  bool judged_on_unseen_eyes_alone() const override { return form_ != kPunctureShift; }
   const std::string& key() const { return key_; }
   const CovariateRange& range() const { return range_; }
 
  private:
   double z_of(double value) const {
-    return (std::clamp(value, range_.low, range_.high) - range_.mean) / range_.spread;
+    return (std::clamp(value, range_.low - range_.reach, range_.high + range_.reach) -
+            range_.mean) /
+           range_.spread;
   }
   std::string key_;
   CovariateRange range_;
