@@ -116,6 +116,10 @@ void ModbusSimServer::refresh_registers() {
   reg::encode_u32(static_cast<std::uint32_t>(truth.accountable_time_s * 1e6),
                   in + reg::sim_truth::kSimTimeUs);
   reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
+  reg::encode_u32(truth.motor_off_silence_s < 0
+                      ? 0xFFFFFFFFU
+                      : static_cast<std::uint32_t>(truth.motor_off_silence_s * 1e6),
+                  in + reg::sim_truth::kMotorOffSilenceUs);
 }
 
 namespace {

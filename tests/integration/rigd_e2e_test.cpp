@@ -176,9 +176,16 @@ TEST(RigdEndToEnd, ALinkDropMidCutFaultsTheRunAndTheDaqWatchdogStopsTheMotor) {
   std::this_thread::sleep_for(std::chrono::milliseconds(800));
   testing::SimPanel after(rig.sim_port());
   EXPECT_FALSE(after.motor_powered());
-  // rigd's last command reached the rig at most one request before the drop; the DAQ's
-  // watchdog (daq.watchdog_ms = 15 in config/rigd.sim.toml, 30 sanitized) then removes motor power.
-  EXPECT_LE(after.motor_off_time_s() - dropped_at, testing::kSimDaqWatchdog_ms * 1e-3 + 0.002);
+  // The DAQ's watchdog (daq.watchdog_ms = 15 in config/rigd.sim.toml, 30 sanitized) removes
+  // motor power that long after rigd's last write. Judged on the DAQ's own clock: the panel's
+  // drop lands a request or two after dropped_at was read, and rigd writes on meanwhile.
+  const double watchdog_s = testing::kSimDaqWatchdog_ms * 1e-3;
+  const double off_s = after.motor_off_time_s();
+  const double silence_s = after.motor_off_silence_s();
+  EXPECT_GT(off_s, dropped_at) << "power went off before the link dropped";
+  EXPECT_GE(silence_s, watchdog_s - 0.0005) << "power went off before the watchdog's time";
+  EXPECT_LE(silence_s, watchdog_s + 0.002) << "the watchdog let the motor run on";
+  EXPECT_GT(off_s - silence_s, dropped_at - watchdog_s) << "rigd was silent before the drop";
   ASSERT_TRUE(rig.wait_state("Fault", 5));
   EXPECT_NE(rig.status()["fault"].get<std::string>().find("DAQ link lost"), std::string::npos);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));

@@ -55,6 +55,9 @@ class SimPanel {
   bool motor_powered() { return input(proto::daq::sim_truth::kMotorPowered) != 0; }
   double motor_off_time_s() { return input_u32(proto::daq::sim_truth::kMotorOffTimeUs) * 1e-6; }
   double sim_time_s() { return input_u32(proto::daq::sim_truth::kSimTimeUs) * 1e-6; }
+  double motor_off_silence_s() {
+    return input_u32(proto::daq::sim_truth::kMotorOffSilenceUs) * 1e-6;
+  }
 
  private:
   modbus_t* ctx_;

@@ -93,7 +93,10 @@ void RigPhysics::maybe_swap_eye() {
 void RigPhysics::step_once() {
   const double dt = params_.step_s;
   const bool powered = motor_powered();
-  if (was_powered_ && !powered) motor_off_time_s_ = time_s_ - excused_stalls_s_;
+  if (was_powered_ && !powered) {
+    motor_off_time_s_ = time_s_ - excused_stalls_s_;
+    motor_off_silence_s_ = time_s_ - last_write_s_;  // stalls already excused from both
+  }
   was_powered_ = powered;
   const double before_mm = motor_.position_mm();
   motor_.step(dt, drive_.motor_volts, powered, tissue_.force_N());
@@ -138,6 +141,7 @@ RigTruth RigPhysics::truth() const {
   t.punctured = tissue_.punctured();
   t.motor_powered = motor_powered();
   t.motor_off_time_s = motor_off_time_s_;
+  t.motor_off_silence_s = motor_off_silence_s_;
   t.accountable_time_s = time_s_ - excused_stalls_s_;
   t.watchdog_tripped = watchdog_tripped();
   t.camera_trigger_edges = trigger_edges_;

@@ -79,7 +79,9 @@ inline constexpr int kMotorOffTimeUs = 105;  // u32 accountable time [us] motor 
 inline constexpr int kSimTimeUs =
     107;  // u32 accountable time [us]: sim time less rig-sim's own stalls
 inline constexpr int kTipDepthMm = 109;  // f32
-inline constexpr int kCount = 11;
+inline constexpr int kMotorOffSilenceUs =
+    111;  // u32 [us] the host's silence when motor power last went off (0xFFFFFFFF: never)
+inline constexpr int kCount = 13;
 }  // namespace sim_truth
 
 inline constexpr int kMapSize = 120;  // registers of each table the server maps

@@ -49,6 +49,9 @@ struct RigTruth {
   bool motor_powered = false;
   double motor_off_time_s =
       -1.0;  // last time motor power went from on to off [s, accountable time]
+  // how long the host had written nothing when motor power last went off [s]: ~0 when rigd
+  // switched it off, the watchdog's time when the DAQ did; judged on the DAQ's own clock.
+  double motor_off_silence_s = -1.0;
   // time_s less the stalls of rig-sim itself (excuse_own_stall) [s]: the clock that latencies
   // of rigd are measured on, so that a busy host's preemption of the simulator is not blamed on
   // rigd.
@@ -119,6 +122,7 @@ class RigPhysics {
   double watchdog_s_ = 0.0;
   bool watchdog_trip_latched_ = false;  // trip_watchdog(), until a write with the motor off
   double motor_off_time_s_ = -1.0;      // [s, accountable time]
+  double motor_off_silence_s_ = -1.0;   // host silence when power last went off [s]
   double excused_stalls_s_ = 0.0;       // sum of excuse_own_stall() [s]
   bool was_powered_ = false;
   bool auto_new_eye_ = true;
