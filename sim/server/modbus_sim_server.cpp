@@ -74,6 +74,11 @@ std::int64_t steady_ns() {
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
+
+// A time or duration [s] as u32 microseconds; negative (not happened yet) as 0xFFFFFFFF.
+void encode_us_or_never(double seconds, std::uint16_t* words) {
+  reg::encode_u32(seconds < 0 ? 0xFFFFFFFFU : static_cast<std::uint32_t>(seconds * 1e6), words);
+}
 }  // namespace
 
 void ModbusSimServer::refresh_registers() {
@@ -109,17 +114,11 @@ void ModbusSimServer::refresh_registers() {
   reg::encode_f32(static_cast<float>(truth.carriage_mm), in + reg::sim_truth::kCarriageMm);
   reg::encode_f32(static_cast<float>(truth.force_N), in + reg::sim_truth::kForceN);
   in[reg::sim_truth::kMotorPowered] = truth.motor_powered ? 1 : 0;
-  reg::encode_u32(truth.motor_off_time_s < 0
-                      ? 0xFFFFFFFFU
-                      : static_cast<std::uint32_t>(truth.motor_off_time_s * 1e6),
-                  in + reg::sim_truth::kMotorOffTimeUs);
+  encode_us_or_never(truth.motor_off_time_s, in + reg::sim_truth::kMotorOffTimeUs);
   reg::encode_u32(static_cast<std::uint32_t>(truth.accountable_time_s * 1e6),
                   in + reg::sim_truth::kSimTimeUs);
   reg::encode_f32(static_cast<float>(truth.tip_depth_mm), in + reg::sim_truth::kTipDepthMm);
-  reg::encode_u32(truth.motor_off_silence_s < 0
-                      ? 0xFFFFFFFFU
-                      : static_cast<std::uint32_t>(truth.motor_off_silence_s * 1e6),
-                  in + reg::sim_truth::kMotorOffSilenceUs);
+  encode_us_or_never(truth.motor_off_silence_s, in + reg::sim_truth::kMotorOffSilenceUs);
 }
 
 namespace {
