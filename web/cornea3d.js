@@ -224,6 +224,7 @@ requestAnimationFrame(onFrame);
 // Fed by haptics.js with every MeshFrame of the session.
 function onMesh(m) {
   if (m.x_mm.length !== view.n) { view.setGrid(m.x_mm.length); felt.reset(); felt.loadModel(); }
+  else if (window.rig.mesh.frames === 1) felt.reset();  // a new session's first frame (haptics.js)
   view.show(m);
   window.rig.mesh.whole = Boolean(m.grid_z_mm);
   felt.add(m);

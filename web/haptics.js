@@ -73,7 +73,8 @@
                   ["felt vs model", s.rmse_vs_model_N !== undefined && `RMSE ${fmt(s.rmse_vs_model_N * 1000, 2)} mN, max ${fmt(s.max_vs_model_N * 1000, 2)} mN`],
                   ["felt vs run", s.rmse_vs_run_N !== undefined && `RMSE ${fmt(s.rmse_vs_run_N * 1000, 2)} mN, max ${fmt(s.max_vs_run_N * 1000, 2)} mN`],
                   ["mesh", s.mesh_vertices && `${s.mesh_vertices} vertices, ${s.mesh_springs} springs`],
-                  ["watchdog", s.watchdog_tripped ? "tripped: force turned off" : undefined]];
+                  ["watchdog", s.watchdog_tripped ? "tripped: force turned off" : undefined],
+                  ["longest servo gap", s.longest_tick_gap_ms && fmt(s.longest_tick_gap_ms, 1) + " ms"]];
     $("haptic-status").innerHTML = rows.filter(([, v]) => v !== undefined && v !== null && v !== false && v !== "")
       .map(([k, v]) => `<tr><th>${k}</th><td>${String(v).replace(/</g, "&lt;")}</td></tr>`).join("");
   }

@@ -64,6 +64,7 @@ nlohmann::json result_json(const HapticOptions& o, const haptic::PlaybackResult&
           {"slew_limited_ticks", r.slew_limited_ticks},
           {"watchdog_tripped", r.watchdog_tripped},
           {"longest_stall_ms", r.longest_stall_ms},
+          {"longest_tick_gap_ms", r.longest_tick_gap_ms},
           {"fault", r.fault.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.fault)},
           {"force_limit_N", r.force_limit_N},
           {"mesh_vertices", r.mesh_vertices},

@@ -91,6 +91,7 @@ SessionReport HapticSession::run(const std::function<void(const MeshSnapshot&)>&
   r.tick_max_us = static_cast<double>(cost.max_ns) / 1000.0;
   r.watchdog_tripped = watchdog.tripped();
   r.longest_stall_ms = watchdog.longest_gap_ms();
+  r.longest_tick_gap_ms = static_cast<double>(c.longest_tick_gap_ns.load()) / 1e6;
   const auto fault = static_cast<drivers::HapticFault>(c.fault.load());
   if (fault != drivers::HapticFault::kNone) r.fault = drivers::to_string(fault);
   if (r.watchdog_tripped && r.fault.empty())

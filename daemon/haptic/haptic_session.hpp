@@ -28,8 +28,9 @@ struct SessionReport {
   std::uint64_t slew_limited_ticks = 0;
   double tick_p50_us = 0.0, tick_p99_us = 0.0, tick_max_us = 0.0;  // servo tick cost
   bool watchdog_tripped = false;
-  double longest_stall_ms = 0.0;
-  std::string fault;  // empty: none
+  double longest_stall_ms = 0.0;     // the servo's silence as the stall watchdog saw it [ms]
+  double longest_tick_gap_ms = 0.0;  // the longest time between tick starts, the servo's clock [ms]
+  std::string fault;                 // empty: none
   double force_limit_N = 0.0;
   int mesh_vertices = 0, mesh_springs = 0;
 };

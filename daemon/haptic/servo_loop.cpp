@@ -89,6 +89,9 @@ drivers::Vec3 ServoLoop::tick(const drivers::Vec3& position_mm, double t_s) noex
   if (s_.count_late_ticks && start_ns - last_start_ns_ > period_ns * 3 / 2) {
     counters_.late_ticks.fetch_add(1, std::memory_order_relaxed);
   }
+  const std::int64_t gap_ns = start_ns - last_start_ns_;
+  if (gap_ns > counters_.longest_tick_gap_ns.load(std::memory_order_relaxed))
+    counters_.longest_tick_gap_ns.store(gap_ns, std::memory_order_relaxed);  // one writer: this
   last_start_ns_ = start_ns;
   return force;
 }

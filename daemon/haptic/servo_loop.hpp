@@ -26,7 +26,10 @@ struct ServoCounters {
   std::atomic<std::uint64_t> slew_limited_ticks{0};
   std::atomic<std::uint64_t> overruns{0};    // tick took longer than the period
   std::atomic<std::uint64_t> late_ticks{0};  // tick started > 1.5 periods after the last
-  std::atomic<std::uint8_t> fault{0};        // drivers::HapticFault reported by the device
+  // The longest time between two tick starts [ns], on the servo's own clock: how long the servo
+  // itself was silent, which the stall watchdog judges from outside (tests compare the two).
+  std::atomic<std::int64_t> longest_tick_gap_ns{0};
+  std::atomic<std::uint8_t> fault{0};  // drivers::HapticFault reported by the device
 };
 
 class ServoLoop final : public drivers::HapticServo {

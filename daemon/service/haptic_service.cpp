@@ -151,6 +151,7 @@ void HapticService::run(std::shared_ptr<haptic::Playback> playback) {
     status_.mesh_vertices = r.mesh_vertices;
     status_.mesh_springs = r.mesh_springs;
     status_.watchdog_tripped = r.watchdog_tripped;
+    status_.longest_tick_gap_ms = r.longest_tick_gap_ms;
   }
   spdlog::info("haptic: session {} ({} ticks at {:.1f} Hz)",
                error.empty() ? "done" : "failed: " + error, result.report.ticks,

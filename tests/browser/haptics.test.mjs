@@ -13,12 +13,25 @@ await test("Browser.AHapticSessionStartedFromThePageDrawsTheCorneaDentingAndOpen
   try {
     await page.click("button[data-view=haptics]");
     await page.fill("#haptic-form input[name=velocity_mm_s]", "4");
-    await page.click("#b-haptic-start");
-    await until("the tissue dented under the tip", () => page.evaluate(() => window.rig.mesh.maxDepth > 0.5), 60000);
-    await page.screenshot({path: shot("haptics-dent.png"), fullPage: true});
-    await until("the puncture", () => page.evaluate(() => window.rig.mesh.punctured), 60000);
-    await page.screenshot({path: shot("haptics-cut-open.png"), fullPage: true});
-    await until("the session's end", () => page.evaluate(() => window.rig.haptic && window.rig.haptic.state !== "running"), 120000);
+    // On these VMs a real-time servo is now and then really silenced for over 20 ms (the VM's
+    // host holds its vCPU); the watchdog then ends the session with force off, as it must with
+    // a hand on a Phantom. The page must say so, and the technician starts again: up to three.
+    let stalls = 0;
+    for (;;) {
+      await page.evaluate(() => { window.rig.haptic = null; });  // the last session's end is not this one's
+      await page.click("#b-haptic-start");
+      const ended = () => page.evaluate(() => window.rig.haptic !== null && window.rig.haptic.state !== "running");
+      await until("the tissue dented under the tip", async () => await page.evaluate(() => window.rig.mesh.maxDepth > 0.5) || await ended(), 60000);
+      if (!await ended()) await page.screenshot({path: shot("haptics-dent.png"), fullPage: true});
+      await until("the puncture", async () => await page.evaluate(() => window.rig.mesh.punctured) || await ended(), 60000);
+      if (!await ended()) await page.screenshot({path: shot("haptics-cut-open.png"), fullPage: true});
+      await until("the session's end", ended, 120000);
+      const h = await page.evaluate(() => window.rig.haptic);
+      if (h.state !== "failed" || !/stalled/.test(h.error) || ++stalls === 3) break;
+      const shown = await page.textContent("#haptic-status");
+      if (!shown.includes(h.error)) throw new Error("a stalled session's fault is not shown: " + shown);
+      console.log(`  session ${stalls} stalled (${h.error}, longest servo gap ${h.longest_tick_gap_ms} ms): starting again`);
+    }
     const {mesh, haptic} = await page.evaluate(() => ({mesh: window.rig.mesh, haptic: window.rig.haptic}));
     if (haptic.state !== "done") throw new Error(`session ended ${haptic.state}: ${haptic.error}`);
     if (mesh.points !== 13) throw new Error(`cross-section has ${mesh.points} points, expected 13`);

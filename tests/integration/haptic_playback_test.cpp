@@ -152,16 +152,38 @@ TEST(HapticPlayback, AVirtualTimeSessionHasNoWallClockWatchdogWhateverTheCallerA
   EXPECT_FALSE(device.forced_off());
 }
 
-TEST(HapticPlayback, TheWatchdogStaysQuietOnAHealthyRealTimeServo) {
-  PlaybackOptions o;
-  o.velocity_mm_s = 4.0;
-  o.depth_mm = 1.0;
-  Playback playback(o, model::ForceModel::paper_interpreted(), std::nullopt);
-  const PlaybackResult result = playback.run(nullptr, nullptr);
-  EXPECT_FALSE(result.report.watchdog_tripped);
-  EXPECT_TRUE(result.report.fault.empty()) << result.report.fault;
-  EXPECT_GT(result.report.ticks, 1000U);
-  EXPECT_GT(result.report.rate_hz, 500.0);  // a sanity bound: timing figures are in bench-haptic
+// The watchdog is judged against the servo's own clock. On these VMs a SCHED_FIFO thread still
+// wakes up to 11-19 ms late now and then (docs/haptics.md), and under the ASan tier beside two
+// builds the servo was once really silent for more than 20 ms (CI, 2026-12-07: tripped after
+// 636 ticks). Then tripping is right: the watchdog must only never blame a servo that ticked.
+// A session the machine left alone must run to its end quietly, and one of three must be one.
+TEST(HapticPlayback, TheWatchdogStaysQuietWhileTheServoTicksAndTripsOnlyWhenItWasReallySilent) {
+  constexpr double kTimeoutMs = 20.0;    // HapticSession's default watchdog [ms]
+  constexpr double kClockSlackMs = 1.0;  // tick start vs. tick count, under a sanitizer [ms]
+  std::string stalled;
+  bool quiet_session = false;
+  for (int attempt = 0; attempt < 3 && !quiet_session; ++attempt) {
+    PlaybackOptions o;
+    o.velocity_mm_s = 4.0;
+    o.depth_mm = 1.0;
+    Playback playback(o, model::ForceModel::paper_interpreted(), std::nullopt);
+    const SessionReport r = playback.run(nullptr, nullptr).report;
+    if (r.watchdog_tripped) {
+      EXPECT_GE(r.longest_tick_gap_ms, kTimeoutMs - kClockSlackMs)
+          << "the watchdog blamed a servo whose own longest gap was " << r.longest_tick_gap_ms
+          << " ms (it saw " << r.longest_stall_ms << " ms)";
+      EXPECT_NE(r.fault.find("stalled"), std::string::npos) << r.fault;
+      stalled += " " + std::to_string(r.longest_tick_gap_ms) + " ms";
+      continue;
+    }
+    quiet_session = true;
+    EXPECT_TRUE(r.fault.empty()) << r.fault;
+    EXPECT_GT(r.ticks, 1000U);
+    EXPECT_GT(r.rate_hz, 500.0);  // a sanity bound: timing figures are in bench-haptic
+    EXPECT_LE(r.longest_stall_ms, kTimeoutMs);
+    EXPECT_GT(r.longest_tick_gap_ms, 0.5);  // at least one period [ms]: the gap is measured
+  }
+  EXPECT_TRUE(quiet_session) << "the machine silenced the servo in every session:" << stalled;
 }
 
 TEST(OpenHaptics, AMissingLibHdIsAClearErrorThatPointsToTheSimulatedDevice) {
