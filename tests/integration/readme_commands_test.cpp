@@ -146,7 +146,16 @@ class DocumentedCommands : public ::testing::Test {
     return "env " + environment() + " " + line;
   }
 
+  // Each line's wall time is printed after it (DOC-COMMAND-TIME): where the tier's time goes.
   void run_documented(const DocumentedCommand& c) {
+    const auto start = std::chrono::steady_clock::now();
+    run_one_documented(c);
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("DOC-COMMAND-TIME | %.1f s | %s:%d\n", seconds, c.file.c_str(), c.line);
+  }
+
+  void run_one_documented(const DocumentedCommand& c) {
     const std::vector<std::string> w = words(c.text);
     const std::string sub = w.size() > 1 ? w[1] : "";
     const std::string where = c.file + ":" + std::to_string(c.line) + ": " + c.text;
