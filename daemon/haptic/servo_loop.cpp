@@ -86,10 +86,10 @@ drivers::Vec3 ServoLoop::tick(const drivers::Vec3& position_mm, double t_s) noex
   tick_cost_.record(end_ns - start_ns);
   const auto period_ns = static_cast<std::int64_t>(s_.period_s * 1e9);
   if (end_ns - start_ns > period_ns) counters_.overruns.fetch_add(1, std::memory_order_relaxed);
-  if (s_.count_late_ticks && start_ns - last_start_ns_ > period_ns * 3 / 2) {
+  const std::int64_t gap_ns = start_ns - last_start_ns_;  // since the last tick began [ns]
+  if (s_.count_late_ticks && gap_ns > period_ns * 3 / 2) {
     counters_.late_ticks.fetch_add(1, std::memory_order_relaxed);
   }
-  const std::int64_t gap_ns = start_ns - last_start_ns_;
   if (gap_ns > counters_.longest_tick_gap_ns.load(std::memory_order_relaxed))
     counters_.longest_tick_gap_ns.store(gap_ns, std::memory_order_relaxed);  // one writer: this
   last_start_ns_ = start_ns;
